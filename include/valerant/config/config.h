@@ -1,0 +1,107 @@
+#pragma once
+// Typed configuration of valerant, loaded from config/valerant.yaml. Every default is
+// the paper's value (appendix A) or, for the engine world, the Quake III value; the
+// YAML file documents where each number comes from. Loading is strict: an unknown key,
+// a wrong type or an out-of-range value throws InputError naming the file and key.
+#include <cstdint>
+#include <string>
+
+namespace valerant {
+
+// WM-like image degradations for stress runs (all 0 = off, the default).
+struct DegradationConfig {
+  double noise_sigma = 0;       // additive Gaussian noise, 8-bit levels
+  double blur_sigma = 0;        // Gaussian blur, pixels
+  double exposure_flicker = 0;  // per-frame gain drawn from [1-x, 1+x]
+  double jitter_px = 0;         // per-frame random image shift, pixels
+};
+
+struct WorldConfig {
+  std::string backend = "quake3";
+  std::string map = "oa_dm1";  // map name, or /path/to/file.pk3:mapname
+  int spawn = 0;
+  int width = 320;
+  int height = 240;
+  double fov_x_deg = 90;        // Quake III default cg_fov
+  double d_fwd_units = 256;     // nominal displacement of one forward action (8 m)
+  double eye_height_units = 50; // feet to eye: origin 24 above feet + view height 26
+  double near_plane_units = 4;
+  double far_plane_units = 8192;
+  int patch_level = 8;          // Bezier segments per patch block edge
+  double max_drop_units = 1024; // deepest drop the eye follows down
+  uint32_t seed = 0;
+  DegradationConfig degradation;
+};
+
+struct RolloutConfig {
+  int context_frames = 16;       // K
+  int horizon_frames = 57;       // H for uw, jq, lq and the turn segment of jw, lw
+  int turn_forward_frames = 40;  // forward segment appended to jw, lw (H = 97)
+  double turn_forward_deg = 45;  // yaw of the turn segment of jw / lw
+  double rotate_deg = 90;        // yaw of jq / lq
+  int flow_steps = 3;            // generative backends only
+  double cfg_scale = 5.0;        // generative backends only
+};
+
+struct PolicyConfig {
+  double lambda_cov = 1.0;
+  double lambda_prog = 5.0;
+  double frontier_weight = 0.5;  // C = C_new + 0.5 C_front
+  int grid_cells = 128;
+  int cells_per_d_fwd = 8;       // cell width = d_fwd / 8
+  int budget_steps = 15;
+};
+
+struct FloorConfig {
+  bool enabled = true;             // RF; off = one floor calibrated at the start
+  int min_support = 300;
+  double min_vertical_alignment = 0.7;  // |n . e_y|
+  double lower_envelope_fraction = 0.35;
+  int ransac_iterations = 200;
+  double ransac_inlier_ratio = 0.03;    // inlier distance / camera-to-floor estimate
+};
+
+struct CollisionConfig {
+  bool pointcloud_enabled = true;
+  bool depth_enabled = true;
+  double body_radius = 0.21;   // rho
+  double height_low = 0.18;    // eta_low
+  double height_high = 1.19;   // eta_high
+  double min_confidence = 4.0;
+  int n_occ = 30;
+  int n_occ_consecutive = 2;
+  int n_occ_immediate = 300;
+  double center_fraction = 1.0 / 3.0;
+  double d_near = 0.455;
+  double s_min_coefficient = 0.085;
+};
+
+struct DeadPocketConfig {
+  bool enabled = true;
+  int rotation_only_steps = 3;
+  int checkpoints_kept = 3;
+  int max_rewinds = 2;
+};
+
+struct SlamConfig {
+  std::string backend = "visual";  // visual | oracle
+};
+
+struct Config {
+  WorldConfig world;
+  RolloutConfig rollout;
+  PolicyConfig policy;
+  FloorConfig floor;
+  CollisionConfig collision;
+  DeadPocketConfig dead_pocket;
+  SlamConfig slam;
+};
+
+// Loads and validates a YAML file; keys left out keep their defaults.
+Config loadConfig(const std::string& path);
+// Same, from YAML text; `source` names it in errors.
+Config parseConfig(const std::string& yaml_text, const std::string& source);
+// config/valerant.yaml of the source tree (VALERANT_CONFIG overrides).
+std::string defaultConfigPath();
+
+}  // namespace valerant

@@ -1,0 +1,220 @@
+#include "valerant/config/config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "valerant/common/error.h"
+
+namespace valerant {
+namespace {
+
+// Reads the keys of one YAML mapping into typed fields, remembering which keys were
+// consumed so that anything left over (a typo) is reported instead of ignored.
+class Section {
+ public:
+  Section(const YAML::Node& node, std::string path, const std::string& source)
+      : node_(node), path_(std::move(path)), source_(source) {
+    if (node_ && !node_.IsMap()) fail(path_, "expected a mapping");
+  }
+
+  template <typename T>
+  void number(const char* key, T& field, T min, T max) {
+    const YAML::Node v = take(key);
+    if (!v) return;
+    T value;
+    try {
+      if (!v.IsScalar()) throw YAML::Exception(v.Mark(), "not a scalar");
+      value = v.as<T>();
+    } catch (const YAML::Exception&) {
+      fail(name(key), "expected a number, got '" + text(v) + "'");
+    }
+    if (!(value >= min && value <= max)) {
+      std::ostringstream range;
+      range << "value " << value << " outside [" << min << ", " << max << "]";
+      fail(name(key), range.str());
+    }
+    field = value;
+  }
+
+  void boolean(const char* key, bool& field) {
+    const YAML::Node v = take(key);
+    if (!v) return;
+    try {
+      if (!v.IsScalar()) throw YAML::Exception(v.Mark(), "not a scalar");
+      field = v.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(name(key), "expected true or false, got '" + text(v) + "'");
+    }
+  }
+
+  void choice(const char* key, std::string& field, const std::set<std::string>& allowed) {
+    string(key, field);
+    if (!allowed.empty() && !allowed.count(field)) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail(name(key), "'" + field + "' is not one of: " + list);
+    }
+  }
+
+  void string(const char* key, std::string& field) {
+    const YAML::Node v = take(key);
+    if (!v) return;
+    if (!v.IsScalar()) fail(name(key), "expected a string");
+    field = v.Scalar();
+  }
+
+  Section child(const char* key) { return Section(take(key), name(key), source_); }
+
+  // Every key of the mapping must have been read.
+  void finish() const {
+    if (!node_) return;
+    for (const auto& kv : node_) {
+      const std::string key = kv.first.as<std::string>();
+      if (!used_.count(key)) fail(name(key.c_str()), "unknown key");
+    }
+  }
+
+ private:
+  YAML::Node take(const char* key) {
+    used_.insert(key);
+    if (!node_) return YAML::Node();
+    return node_[key];
+  }
+  std::string name(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
+  static std::string text(const YAML::Node& v) {
+    if (v.IsScalar()) return v.Scalar();
+    return v.IsSequence() ? "<sequence>" : "<mapping>";
+  }
+  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
+    throw InputError(source_, key + ": " + problem);
+  }
+
+  YAML::Node node_;
+  std::string path_;
+  const std::string& source_;
+  std::set<std::string> used_;
+};
+
+void readWorld(Section s, WorldConfig& w) {
+  s.choice("backend", w.backend, {"quake3", "bag"});
+  s.string("map", w.map);
+  s.number("spawn", w.spawn, 0, 1000);
+  s.number("width", w.width, 32, 4096);
+  s.number("height", w.height, 32, 4096);
+  s.number("fov_x_deg", w.fov_x_deg, 10.0, 170.0);
+  s.number("d_fwd_units", w.d_fwd_units, 1.0, 10000.0);
+  s.number("eye_height_units", w.eye_height_units, 1.0, 1000.0);
+  s.number("near_plane_units", w.near_plane_units, 0.01, 100.0);
+  s.number("far_plane_units", w.far_plane_units, 100.0, 1e6);
+  s.number("patch_level", w.patch_level, 1, 64);
+  s.number("max_drop_units", w.max_drop_units, 0.0, 1e5);
+  s.number("seed", w.seed, 0u, 0xffffffffu);
+  Section d = s.child("degradation");
+  d.number("noise_sigma", w.degradation.noise_sigma, 0.0, 128.0);
+  d.number("blur_sigma", w.degradation.blur_sigma, 0.0, 20.0);
+  d.number("exposure_flicker", w.degradation.exposure_flicker, 0.0, 0.9);
+  d.number("jitter_px", w.degradation.jitter_px, 0.0, 50.0);
+  d.finish();
+  s.finish();
+}
+
+void readRollout(Section s, RolloutConfig& r) {
+  s.number("context_frames", r.context_frames, 1, 1000);
+  s.number("horizon_frames", r.horizon_frames, 1, 10000);
+  s.number("turn_forward_frames", r.turn_forward_frames, 0, 10000);
+  s.number("turn_forward_deg", r.turn_forward_deg, 0.0, 360.0);
+  s.number("rotate_deg", r.rotate_deg, 0.0, 360.0);
+  s.number("flow_steps", r.flow_steps, 1, 1000);
+  s.number("cfg_scale", r.cfg_scale, 0.0, 100.0);
+  s.finish();
+}
+
+void readPolicy(Section s, PolicyConfig& p) {
+  s.number("lambda_cov", p.lambda_cov, 0.0, 1e6);
+  s.number("lambda_prog", p.lambda_prog, 0.0, 1e6);
+  s.number("frontier_weight", p.frontier_weight, 0.0, 1e6);
+  s.number("grid_cells", p.grid_cells, 8, 4096);
+  s.number("cells_per_d_fwd", p.cells_per_d_fwd, 1, 1024);
+  s.number("budget_steps", p.budget_steps, 1, 100000);
+  s.finish();
+}
+
+void readFloor(Section s, FloorConfig& f) {
+  s.boolean("enabled", f.enabled);
+  s.number("min_support", f.min_support, 3, 10000000);
+  s.number("min_vertical_alignment", f.min_vertical_alignment, 0.0, 1.0);
+  s.number("lower_envelope_fraction", f.lower_envelope_fraction, 0.01, 1.0);
+  s.number("ransac_iterations", f.ransac_iterations, 1, 100000);
+  s.number("ransac_inlier_ratio", f.ransac_inlier_ratio, 1e-6, 1.0);
+  s.finish();
+}
+
+void readCollision(Section s, CollisionConfig& c) {
+  s.boolean("pointcloud_enabled", c.pointcloud_enabled);
+  s.boolean("depth_enabled", c.depth_enabled);
+  s.number("body_radius", c.body_radius, 0.0, 10.0);
+  s.number("height_low", c.height_low, -10.0, 10.0);
+  s.number("height_high", c.height_high, -10.0, 10.0);
+  s.number("min_confidence", c.min_confidence, 0.0, 1e6);
+  s.number("n_occ", c.n_occ, 1, 10000000);
+  s.number("n_occ_consecutive", c.n_occ_consecutive, 1, 1000);
+  s.number("n_occ_immediate", c.n_occ_immediate, 1, 10000000);
+  s.number("center_fraction", c.center_fraction, 0.01, 1.0);
+  s.number("d_near", c.d_near, 0.0, 100.0);
+  s.number("s_min_coefficient", c.s_min_coefficient, 0.0, 10.0);
+  s.finish();
+}
+
+void readDeadPocket(Section s, DeadPocketConfig& d) {
+  s.boolean("enabled", d.enabled);
+  s.number("rotation_only_steps", d.rotation_only_steps, 1, 1000);
+  s.number("checkpoints_kept", d.checkpoints_kept, 1, 1000);
+  s.number("max_rewinds", d.max_rewinds, 0, 1000);
+  s.finish();
+}
+
+}  // namespace
+
+Config parseConfig(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source, std::string("invalid YAML: ") + e.what());
+  }
+  Config c;
+  if (!root || root.IsNull()) return c;
+  Section top(root, "", source);
+  readWorld(top.child("world"), c.world);
+  readRollout(top.child("rollout"), c.rollout);
+  readPolicy(top.child("policy"), c.policy);
+  readFloor(top.child("floor"), c.floor);
+  readCollision(top.child("collision"), c.collision);
+  readDeadPocket(top.child("dead_pocket"), c.dead_pocket);
+  Section slam = top.child("slam");
+  slam.choice("backend", c.slam.backend, {"visual", "oracle"});
+  slam.finish();
+  top.finish();
+  if (c.collision.height_low >= c.collision.height_high)
+    throw InputError(source, "collision.height_low: must be below collision.height_high");
+  return c;
+}
+
+Config loadConfig(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot read config file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parseConfig(text.str(), path);
+}
+
+std::string defaultConfigPath() {
+  if (const char* env = std::getenv("VALERANT_CONFIG"); env && *env) return env;
+  return std::string(VALERANT_SOURCE_DIR) + "/config/valerant.yaml";
+}
+
+}  // namespace valerant

@@ -1,0 +1,54 @@
+#pragma once
+// Minimal "--key value" / "--flag" parser shared by the command-line tools. Unknown
+// options are errors, so a typo never silently runs with defaults.
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "valerant/common/error.h"
+
+namespace valerant::tools {
+
+class CliArgs {
+ public:
+  // `options` take a value, `flags` do not.
+  CliArgs(int argc, char** argv, const std::set<std::string>& options,
+          const std::set<std::string>& flags = {}) {
+    for (int i = 1; i < argc; ++i) {
+      const std::string arg = argv[i];
+      if (flags.count(arg)) {
+        values_[arg] = "1";
+      } else if (options.count(arg)) {
+        if (i + 1 >= argc) throw InputError(arg, "needs a value");
+        values_[arg] = argv[++i];
+      } else {
+        throw InputError(arg, "unknown option");
+      }
+    }
+  }
+  bool has(const std::string& key) const { return values_.count(key) > 0; }
+  std::string get(const std::string& key, const std::string& fallback = "") const {
+    auto it = values_.find(key);
+    return it == values_.end() ? fallback : it->second;
+  }
+  std::string required(const std::string& key) const {
+    if (!has(key)) throw InputError(key, "is required");
+    return get(key);
+  }
+  long integer(const std::string& key, long fallback) const {
+    if (!has(key)) return fallback;
+    try {
+      size_t used = 0;
+      const long v = std::stol(get(key), &used);
+      if (used == get(key).size()) return v;
+    } catch (const std::exception&) {
+    }
+    throw InputError(key + " " + get(key), "is not an integer");
+  }
+
+ private:
+  std::map<std::string, std::string> values_;
+};
+
+}  // namespace valerant::tools

@@ -1,0 +1,105 @@
+#include "valerant/world/action_sequence.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "valerant/common/error.h"
+
+namespace valerant {
+
+bool ActionSequence::rotationOnly() const {
+  for (const auto& s : steps)
+    if (s.forward_units != 0 || s.strafe_units != 0) return false;
+  return true;
+}
+
+double ActionSequence::totalYawDeg() const {
+  double sum = 0;
+  for (const auto& s : steps) sum += s.yaw_deg;
+  return sum;
+}
+
+double ActionSequence::totalForwardUnits() const {
+  double sum = 0;
+  for (const auto& s : steps) sum += s.forward_units;
+  return sum;
+}
+
+const std::vector<std::string>& candidateNames() {
+  static const std::vector<std::string> names = {"uw", "jw", "lw", "jq", "lq"};
+  return names;
+}
+
+namespace {
+
+std::string candidateKeys(const std::string& name, const RolloutConfig& r) {
+  const std::string h = std::to_string(r.horizon_frames);
+  const std::string tail = r.turn_forward_frames > 0 ? ",w:" + std::to_string(r.turn_forward_frames) : "";
+  if (name == "uw") return "w:" + h;
+  if (name == "jw") return "jw:" + h + tail;
+  if (name == "lw") return "lw:" + h + tail;
+  if (name == "jq") return "j:" + h;
+  if (name == "lq") return "l:" + h;
+  return "";
+}
+
+}  // namespace
+
+ActionSequence makeActionSequence(const std::string& candidate_or_keys, const Config& config) {
+  const RolloutConfig& r = config.rollout;
+  std::string keys = candidateKeys(candidate_or_keys, r);
+  const bool is_candidate = !keys.empty();
+  if (!is_candidate) keys = candidate_or_keys;
+  const std::string what = "action '" + candidate_or_keys + "'";
+  if (keys.empty()) throw InputError(what, "empty action string");
+
+  const double speed = config.world.d_fwd_units / r.horizon_frames;
+  const double rotate_rate = r.rotate_deg / r.horizon_frames;
+  // Inside jw / lw the turn segment turns turn_forward_deg, not rotate_deg.
+  const double turn_forward_rate = r.turn_forward_deg / r.horizon_frames;
+
+  ActionSequence seq;
+  seq.name = candidate_or_keys;
+  std::stringstream in(keys);
+  std::string segment;
+  while (std::getline(in, segment, ',')) {
+    const size_t colon = segment.find(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == segment.size())
+      throw InputError(what, "segment '" + segment +
+                                 "' is not KEYS:FRAMES (unknown candidate? use uw, jw, lw, jq, lq)");
+    const std::string held = segment.substr(0, colon);
+    int frames = 0;
+    try {
+      size_t used = 0;
+      frames = std::stoi(segment.substr(colon + 1), &used);
+      if (used != segment.size() - colon - 1) throw std::invalid_argument("trailing");
+    } catch (const std::exception&) {
+      throw InputError(what, "frame count in '" + segment + "' is not an integer");
+    }
+    if (frames < 1 || frames > 100000) throw InputError(what, "frame count in '" + segment + "' out of [1, 100000]");
+
+    const bool moves = held.find_first_of("wsad") != std::string::npos;
+    const double yaw_rate = (is_candidate && moves) ? turn_forward_rate : rotate_rate;
+    MotionStep step;
+    for (char k : held) {
+      switch (k) {
+        case 'w': step.forward_units += speed; break;
+        case 's': step.forward_units -= speed; break;
+        case 'd': step.strafe_units += speed; break;
+        case 'a': step.strafe_units -= speed; break;
+        case 'j': step.yaw_deg += yaw_rate; break;
+        case 'l': step.yaw_deg -= yaw_rate; break;
+        case 'k': step.pitch_deg += rotate_rate; break;
+        case 'i': step.pitch_deg -= rotate_rate; break;
+        case 'u': break;  // Matrix-Game's "no camera motion" key
+        case 'q': break;  // Matrix-Game's "no movement" key
+        default:
+          throw InputError(what, std::string("unknown key '") + k + "' (keys: w s a d j l i k u q)");
+      }
+    }
+    seq.steps.insert(seq.steps.end(), frames, step);
+  }
+  return seq;
+}
+
+}  // namespace valerant

@@ -1,0 +1,60 @@
+// Candidate expansion: exact frame counts, yaw and displacement of each candidate.
+#include <gtest/gtest.h>
+
+#include "valerant/common/error.h"
+#include "valerant/world/action_sequence.h"
+
+using namespace valerant;
+
+TEST(ActionSequence, ForwardCandidateMovesOneNominalDisplacement) {
+  const Config c;
+  const ActionSequence uw = makeActionSequence("uw", c);
+  ASSERT_EQ(uw.steps.size(), 57u);
+  EXPECT_NEAR(uw.totalForwardUnits(), 256.0, 1e-9);
+  EXPECT_DOUBLE_EQ(uw.totalYawDeg(), 0.0);
+  EXPECT_FALSE(uw.rotationOnly());
+}
+
+TEST(ActionSequence, TurnThenForwardCandidates) {
+  const Config c;
+  const ActionSequence jw = makeActionSequence("jw", c);
+  const ActionSequence lw = makeActionSequence("lw", c);
+  ASSERT_EQ(jw.steps.size(), 97u);  // 57 + 40
+  EXPECT_NEAR(jw.totalYawDeg(), 45.0, 1e-9);
+  EXPECT_NEAR(lw.totalYawDeg(), -45.0, 1e-9);
+  EXPECT_NEAR(jw.totalForwardUnits(), 256.0 * 97 / 57, 1e-9);
+  EXPECT_DOUBLE_EQ(jw.steps[56].yaw_deg, 45.0 / 57);
+  EXPECT_DOUBLE_EQ(jw.steps[57].yaw_deg, 0.0);  // the appended segment only moves
+}
+
+TEST(ActionSequence, RotationCandidates) {
+  const Config c;
+  const ActionSequence jq = makeActionSequence("jq", c);
+  const ActionSequence lq = makeActionSequence("lq", c);
+  ASSERT_EQ(jq.steps.size(), 57u);
+  EXPECT_NEAR(jq.totalYawDeg(), 90.0, 1e-9);
+  EXPECT_NEAR(lq.totalYawDeg(), -90.0, 1e-9);
+  EXPECT_TRUE(jq.rotationOnly());
+  EXPECT_TRUE(lq.rotationOnly());
+}
+
+TEST(ActionSequence, KeyStrings) {
+  const Config c;
+  const ActionSequence s = makeActionSequence("w:10,d:5,k:2", c);
+  ASSERT_EQ(s.steps.size(), 17u);
+  EXPECT_NEAR(s.totalForwardUnits(), 10 * 256.0 / 57, 1e-9);
+  EXPECT_NEAR(s.steps[10].strafe_units, 256.0 / 57, 1e-9);
+  EXPECT_NEAR(s.steps[16].pitch_deg, 90.0 / 57, 1e-9);
+}
+
+TEST(ActionSequence, BadActionStringsAreNamed) {
+  const Config c;
+  for (const std::string bad : {"xx", "w:", ":3", "w:abc", "z:3", "w:0", "w:3x", ""}) {
+    try {
+      makeActionSequence(bad, c);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.input(), "action '" + bad + "'");
+    }
+  }
+}
