@@ -140,6 +140,7 @@ void readPolicy(Section s, PolicyConfig& p) {
   s.number("grid_cells", p.grid_cells, 8, 4096);
   s.number("cells_per_d_fwd", p.cells_per_d_fwd, 1, 1024);
   s.number("budget_steps", p.budget_steps, 1, 100000);
+  s.number("step_cap_factor", p.step_cap_factor, 1, 1000);
   s.finish();
 }
 
@@ -195,8 +196,18 @@ Config parseConfig(const std::string& yaml_text, const std::string& source) {
   readFloor(top.child("floor"), c.floor);
   readCollision(top.child("collision"), c.collision);
   readDeadPocket(top.child("dead_pocket"), c.dead_pocket);
+  Section map = top.child("map");
+  map.number("min_confidence", c.map.min_confidence, 0.0, 1e6);
+  map.number("voxel_eye_heights", c.map.voxel_eye_heights, 1e-4, 10.0);
+  map.number("octree_eye_heights", c.map.octree_eye_heights, 1e-4, 10.0);
+  map.number("grid_cell_fraction", c.map.grid_cell_fraction, 0.01, 10.0);
+  map.number("max_range_eye_heights", c.map.max_range_eye_heights, 0.1, 1e4);
+  map.finish();
   Section slam = top.child("slam");
   slam.choice("backend", c.slam.backend, {"visual", "oracle"});
+  slam.number("oracle_keyframe_every", c.slam.oracle_keyframe_every, 1, 10000);
+  slam.number("cloud_stride_px", c.slam.cloud_stride_px, 1, 64);
+  slam.number("oracle_confidence", c.slam.oracle_confidence, 0.0, 1e6);
   slam.finish();
   top.finish();
   if (c.collision.height_low >= c.collision.height_high)

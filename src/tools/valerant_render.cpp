@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
     std::cerr << "valerant_render: " << config.world.map << " spawn " << config.world.spawn << ", "
               << sequences.size() << " rollouts\n";
     fs::create_directories(out);
-    writePng(out + "/spawn.png", world.context().back());
+    writePng(out + "/spawn.png", world.context().frames.back());
 
     nlohmann::json rollouts = nlohmann::json::array();
     const CheckpointId start = world.checkpoint();

@@ -50,6 +50,7 @@ struct PolicyConfig {
   int grid_cells = 128;
   int cells_per_d_fwd = 8;       // cell width = d_fwd / 8
   int budget_steps = 15;
+  int step_cap_factor = 3;       // at most factor x budget steps, stalls and rewound ones included
 };
 
 struct FloorConfig {
@@ -83,8 +84,19 @@ struct DeadPocketConfig {
   int max_rewinds = 2;
 };
 
+struct MapConfig {
+  double min_confidence = 4.0;      // points fused into the map (the collision cut)
+  double voxel_eye_heights = 0.05;  // voxel leaf, in camera-to-floor distances
+  double octree_eye_heights = 0.1;  // OctoMap resolution, in camera-to-floor distances
+  double grid_cell_fraction = 0.5;  // 2D grid cell, as a fraction of a coverage cell
+  double max_range_eye_heights = 12; // rays longer than this are cut (far, unreliable depth)
+};
+
 struct SlamConfig {
   std::string backend = "visual";  // visual | oracle
+  int oracle_keyframe_every = 8;   // oracle: a keyframe every N frames
+  int cloud_stride_px = 4;         // keyframe clouds keep every N-th pixel per axis
+  double oracle_confidence = 10.0; // oracle: constant confidence, above the 4.0 cut
 };
 
 struct Config {
@@ -94,6 +106,7 @@ struct Config {
   FloorConfig floor;
   CollisionConfig collision;
   DeadPocketConfig dead_pocket;
+  MapConfig map;
   SlamConfig slam;
 };
 

@@ -37,8 +37,9 @@ class WorldModel {
  public:
   virtual ~WorldModel() = default;
   virtual CameraIntrinsics intrinsics() const = 0;
-  // The last K committed frames (fewer at the very start), oldest first.
-  virtual std::vector<cv::Mat> context() const = 0;
+  // The last K committed frames (fewer at the very start), oldest first, with their
+  // ground truth where the backend has it; candidate "context".
+  virtual Rollout context() const = 0;
   // Saves the committed state; ids increase and are never reused.
   virtual CheckpointId checkpoint() = 0;
   // Returns to a saved state. Throws InputError for an unknown or dropped id.

@@ -1,8 +1,12 @@
 #include "valerant/world/quake3/collision_model.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+
+#include "valerant/common/error.h"
+#include "valerant/world/quake3/patch.h"
 
 namespace valerant::quake3 {
 namespace {
@@ -13,7 +17,7 @@ using Eigen::Vector3f;
 // resting exactly on a floor (or brushing a wall) is not in solid despite rounding.
 constexpr float kTouchEpsilon = 0.01f;
 
-// Lowest value of n.x over the box [mins, maxs] around the origin: the corner that
+// Lowest value of n.dot(x) over the box [mins, maxs] around the origin: the corner that
 // meets the plane first (the game's per-signbits offset). Adding it to the plane
 // test of the centre tests the whole box against the brush grown by the box.
 float nearestCornerOffset(const Vector3f& n, const Vector3f& mins, const Vector3f& maxs) {
@@ -52,9 +56,9 @@ Eigen::AlignedBox3f boundsByClipping(const std::vector<Eigen::Vector4f>& planes)
 }
 
 // Sets the brush bounds from its planes and adds the axial bounding planes it lacks.
-// Brushes compiled by q3map2 start with the six axial sides (and carry bevel planes
-// on their edges), which keeps the plane-only box test exact; the added planes give
-// hand-made brushes the same property. Returns false for an empty brush.
+// Brushes compiled by q3map2 start with the six axial sides and carry bevel planes
+// on their slanted edges, which keeps the plane-only box test exact; hand-made
+// brushes get at least the axial ones. Returns false for an empty brush.
 bool completeBrush(ConvexBrush& brush) {
   constexpr float kInf = std::numeric_limits<float>::infinity();
   Vector3f lo = Vector3f::Constant(-kInf), hi = Vector3f::Constant(kInf);
@@ -121,11 +125,76 @@ std::optional<float> sweepFraction(const ConvexBrush& brush, const Vector3f& sta
   return enter_exact;
 }
 
+// Segments per Bezier block edge of a patch's collision surface. The game subdivides
+// adaptively until the chords are within 16 units of the curve; a fixed fine level
+// follows the drawn surface instead, which differs from the game's by at most that.
+constexpr int kPatchCollisionLevel = 4;
+
+// Zero-thickness brush of one patch triangle (the game's facets are thin too, and a
+// box still collides with them). Its planes are all separating axes of box versus
+// triangle: both faces, the three axial bevels pairs and every edge x axis bevel,
+// so the plane-only tests are exact for it.
+std::optional<ConvexBrush> facetBrush(const std::array<Vector3f, 3>& v, int contents) {
+  Vector3f normal = (v[1] - v[0]).cross(v[2] - v[0]);
+  if (normal.squaredNorm() < 1e-6f) return std::nullopt;
+  normal.normalize();
+  ConvexBrush brush;
+  brush.contents = contents;
+  auto addPlane = [&](const Vector3f& n) {
+    float dist = -std::numeric_limits<float>::infinity();
+    for (const Vector3f& p : v) dist = std::max(dist, n.dot(p));
+    brush.planes.emplace_back(n.x(), n.y(), n.z(), dist);
+  };
+  addPlane(normal);
+  addPlane(-normal);
+  for (int a = 0; a < 3; ++a) {
+    addPlane(-Vector3f::Unit(a));
+    addPlane(Vector3f::Unit(a));
+  }
+  for (int e = 0; e < 3; ++e) {
+    const Vector3f edge = v[(e + 1) % 3] - v[e];
+    const Vector3f& opposite = v[(e + 2) % 3];
+    for (int a = 0; a < 3; ++a) {
+      Vector3f n = edge.cross(Vector3f::Unit(a));
+      if (n.squaredNorm() < 1e-6f * edge.squaredNorm()) continue;  // edge along the axis
+      n.normalize();
+      const float edge_side = n.dot(v[e]) - n.dot(opposite);
+      if (std::abs(edge_side) < 1e-4f) continue;  // n is the face normal: already added
+      addPlane(edge_side > 0 ? n : Vector3f(-n));
+    }
+  }
+  return brush;
+}
+
+// Facets of every solid Bezier patch of the world model: the game collides with
+// patches (cm_patch.c), and some maps' floors are made of nothing else.
+void addPatchFacets(const BspMap& map, int contents_mask, std::vector<ConvexBrush>& out) {
+  const BspModel& world = map.models[0];
+  for (int f = world.first_face; f < world.first_face + world.num_faces; ++f) {
+    const BspFace& face = map.faces[f];
+    const BspShader& shader = map.shaders[face.shader];
+    if (face.type != BspFaceType::kPatch || !(shader.contents & contents_mask) ||
+        (shader.surface_flags & kSurfNonSolid))
+      continue;
+    const std::vector<BspVertex> control(map.vertices.begin() + face.first_vertex,
+                                         map.vertices.begin() + face.first_vertex + face.num_vertices);
+    const TriangleMesh mesh =
+        tessellatePatch(control, face.patch_size[0], face.patch_size[1], kPatchCollisionLevel);
+    for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+      const std::array<Vector3f, 3> triangle{mesh.vertices[mesh.indices[i]].position,
+                                             mesh.vertices[mesh.indices[i + 1]].position,
+                                             mesh.vertices[mesh.indices[i + 2]].position};
+      if (auto brush = facetBrush(triangle, shader.contents)) out.push_back(std::move(*brush));
+    }
+  }
+}
+
 }  // namespace
 
 CollisionModel CollisionModel::fromBsp(const BspMap& map, int contents_mask) {
+  if (map.models.empty()) throw InputError(map.name, "no world model");
   std::vector<ConvexBrush> brushes;
-  const BspModel& world = map.models.at(0);
+  const BspModel& world = map.models[0];
   for (int b = world.first_brush; b < world.first_brush + world.num_brushes; ++b) {
     const BspBrush& brush = map.brushes[b];
     const int contents = map.shaders[brush.shader].contents;
@@ -138,6 +207,7 @@ CollisionModel CollisionModel::fromBsp(const BspMap& map, int contents_mask) {
     }
     brushes.push_back(std::move(convex));
   }
+  addPatchFacets(map, contents_mask, brushes);
   return CollisionModel(std::move(brushes));
 }
 

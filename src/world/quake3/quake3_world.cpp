@@ -35,7 +35,9 @@ Quake3World::Quake3World(std::shared_ptr<const Quake3Map> map, const Config& con
                                                     config.world.fov_x_deg),
                 renderOptions(config.world)) {
   state_.camera = kinematics_.spawn(pickSpawn(spawns_, config.world.spawn, map_->bsp.name));
-  state_.context.push_back(renderFrame(state_.camera, 0).first);
+  auto [rgb, truth] = renderFrame(state_.camera, 0);
+  state_.context.push_back(rgb);
+  state_.context_truth.push_back(truth);
   state_.frames_committed = 1;
 }
 
@@ -57,8 +59,12 @@ std::pair<cv::Mat, FrameTruth> Quake3World::renderFrame(const CameraState& camer
   return frame;
 }
 
-std::vector<cv::Mat> Quake3World::context() const {
-  return {state_.context.begin(), state_.context.end()};
+Rollout Quake3World::context() const {
+  Rollout r;
+  r.candidate = "context";
+  r.frames.assign(state_.context.begin(), state_.context.end());
+  r.truth.assign(state_.context_truth.begin(), state_.context_truth.end());
+  return r;
 }
 
 CheckpointId Quake3World::checkpoint() {
@@ -87,7 +93,11 @@ Rollout Quake3World::rollout(const ActionSequence& actions) {
     auto [rgb, truth] = renderFrame(end.camera, end.frames_committed);
     ++end.frames_committed;
     end.context.push_back(rgb);
-    while (end.context.size() > static_cast<size_t>(config_.rollout.context_frames)) end.context.pop_front();
+    end.context_truth.push_back(truth);
+    while (end.context.size() > static_cast<size_t>(config_.rollout.context_frames)) {
+      end.context.pop_front();
+      end.context_truth.pop_front();
+    }
     r.frames.push_back(rgb);
     r.truth.push_back(std::move(truth));
   }

@@ -34,6 +34,12 @@ std::string describeSpawn(const Vector3f& p) {
   return s.str();
 }
 
+std::string noFloorWithin(float max_drop) {
+  std::ostringstream s;
+  s << "no floor within " << max_drop << " units below";
+  return s.str();
+}
+
 }  // namespace
 
 double ReachableFloor::areaSquareMetres() const {
@@ -43,20 +49,23 @@ double ReachableFloor::areaSquareMetres() const {
 
 ReachableFloor floodFillReachableFloor(const CollisionModel& model, const Vector3f& spawn_origin,
                                        const PlayerHull& hull, const ReachableFloorParams& params) {
+  if (!(params.cell_size > 0))
+    throw InputError("reachable floor cell_size " + std::to_string(params.cell_size), "must be positive");
   const Vector3f& mins = hull.mins;
   const Vector3f& maxs = hull.maxs;
-  const Vector3f start = spawn_origin + Vector3f(0, 0, 1);
+  // The game spawns the player 9 units above the spawn point and lets it fall
+  // (g_client.c), so spawn points may sit slightly in a floor or clip brush.
+  const Vector3f start = spawn_origin + Vector3f(0, 0, 9);
   if (model.boxInSolid(start, mins, maxs))
     throw InputError(describeSpawn(spawn_origin), "the player hull is in solid");
   const std::optional<float> spawn_z = model.dropBox(start, mins, maxs, params.max_drop);
   if (!spawn_z)
-    throw InputError(describeSpawn(spawn_origin),
-                     "no floor within " + std::to_string(params.max_drop) + " units below");
+    throw InputError(describeSpawn(spawn_origin), noFloorWithin(params.max_drop));
 
   const float cell = params.cell_size;
   const Vector3f lift(0, 0, hull.step_height);
   const int sub_steps = std::max(1, static_cast<int>(std::ceil(cell / kMaxSubStep)));
-  const Eigen::AlignedBox3f& world = model.bounds();
+  const Eigen::AlignedBox3f world = model.bounds();
   auto originOf = [&](int ix, int iy, float z) {
     return Vector3f(spawn_origin.x() + ix * cell, spawn_origin.y() + iy * cell, z);
   };

@@ -1,8 +1,9 @@
 #pragma once
 // Brush collision model of a Quake III map: the convex solid brushes of the world
-// model, queried with axis-aligned boxes like the game's CM_BoxTrace. Used only for
-// kinematics (the eye follows the floor) and ground truth (in-solid flags,
-// reachable floor); the exploration pipeline never sees it.
+// model plus its solid Bezier patches (as thin triangle brushes), queried with
+// axis-aligned boxes like the game's CM_BoxTrace. Used only for kinematics (the eye
+// follows the floor) and ground truth (in-solid flags, reachable floor); the
+// exploration pipeline never sees it.
 #include <Eigen/Geometry>
 #include <optional>
 #include <vector>
@@ -13,13 +14,15 @@ namespace valerant::quake3 {
 
 struct ConvexBrush {
   std::vector<Eigen::Vector4f> planes;  // (normal, dist): inside means normal.p < dist for all
-  Eigen::AlignedBox3f bounds;           // derived from the planes by CollisionModel
+  Eigen::AlignedBox3f bounds;           // set from the planes by CollisionModel, which
+                                        // also adds missing axial bounding planes
   int contents = 0;
 };
 
 class CollisionModel {
  public:
-  // Brushes of the world model (model 0) whose shader contents match `contents_mask`.
+  // Brushes and patches of the world model (model 0) whose shader contents match
+  // `contents_mask`.
   static CollisionModel fromBsp(const BspMap& map,
                                 int contents_mask = kContentsSolid | kContentsPlayerClip);
   explicit CollisionModel(std::vector<ConvexBrush> brushes);

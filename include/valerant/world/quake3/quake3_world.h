@@ -23,7 +23,7 @@ class Quake3World : public WorldModel {
   Quake3World(std::shared_ptr<const Quake3Map> map, const Config& config);
 
   CameraIntrinsics intrinsics() const override { return renderer_.intrinsics(); }
-  std::vector<cv::Mat> context() const override;
+  Rollout context() const override;
   CheckpointId checkpoint() override;
   void restore(CheckpointId id) override;
   void dropCheckpoint(CheckpointId id) override;
@@ -43,6 +43,7 @@ class Quake3World : public WorldModel {
   struct State {
     CameraState camera;
     std::deque<cv::Mat> context;
+    std::deque<FrameTruth> context_truth;
     uint64_t frames_committed = 0;  // keys the degradation randomness
   };
   std::pair<cv::Mat, FrameTruth> renderClean(const CameraState& camera);

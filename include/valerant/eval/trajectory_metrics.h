@@ -1,0 +1,54 @@
+#pragma once
+// Accuracy of a SLAM run against ground truth (engine world only, DESIGN.md section
+// 5): absolute trajectory error after a Sim(3) alignment (Umeyama), as a share of the
+// path length, rotation error, and depth AbsRel on confident pixels after one median
+// scale for the whole sequence (monocular depth has an arbitrary scale).
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace valerant {
+
+// truth ~ scale * rotation * estimate + translation
+struct Sim3 {
+  double scale = 1;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d apply(const Eigen::Vector3d& p) const { return scale * (rotation * p) + translation; }
+};
+
+// Least-squares Sim(3) between matched points (Eigen::umeyama). Throws InputError for
+// different lengths, fewer than 3 points, or estimate points that do not spread (no
+// scale can be fitted).
+Sim3 alignSim3(const std::vector<Eigen::Vector3d>& estimate, const std::vector<Eigen::Vector3d>& truth);
+
+struct TrajectoryError {
+  int frames = 0;
+  double path_length = 0;        // of the truth, in its units
+  bool aligned = false;          // false: the estimate did not translate, no Sim(3)
+  Sim3 alignment;
+  double ate_rmse = 0;           // truth units; without alignment: spread of the truth
+  double ate_percent = 0;        // ate_rmse / path_length * 100 (NaN when path_length ~ 0)
+  double rotation_rmse_deg = 0;  // after the best rotation between the two trajectories
+};
+
+// Camera poses (camera_to_world) of the same frames. Throws InputError for different
+// lengths or an empty trajectory.
+TrajectoryError trajectoryError(const std::vector<Eigen::Isometry3d>& estimate,
+                                const std::vector<Eigen::Isometry3d>& truth);
+
+struct DepthError {
+  double abs_rel = 0;             // mean |s d - d*| / d* over confident pixels (NaN: none)
+  double scale = 0;               // s: median of d* / d over confident pixels
+  double confident_fraction = 0;  // confident pixels / pixels with finite truth
+  long confident_pixels = 0;
+  long truth_pixels = 0;
+};
+
+// Per-frame estimated depth (CV_32F, any units, NaN unknown) and confidence, truth depth
+// (CV_32F metres, NaN unknown); frames with empty estimates count as unconfident.
+// Throws InputError when the lists or image sizes disagree.
+DepthError depthError(const std::vector<cv::Mat>& estimate, const std::vector<cv::Mat>& confidence,
+                      const std::vector<cv::Mat>& truth, double min_confidence);
+
+}  // namespace valerant

@@ -1,0 +1,23 @@
+#pragma once
+// Everything the policy knows about one candidate at one step: the collision tests,
+// the score terms and why it was rejected. Mirrors msg/BranchVerdict.msg.
+#include <string>
+
+namespace valerant {
+
+struct BranchVerdict {
+  std::string candidate;
+  bool rotation_only = false;
+  bool collision_pc = false;
+  bool collision_depth = false;
+  int occupied_max = 0;
+  double min_near_ratio = 0;
+  bool slam_lost = false;
+  bool enters_failed = false;
+  double c_new = 0, c_front = 0, coverage = 0, progress = 0;
+  double score = 0;
+  bool admissible = false;
+  std::string reason;  // "" when admissible
+};
+
+}  // namespace valerant

@@ -1,0 +1,82 @@
+#pragma once
+// The exploration grid of the policy (paper eq. 2, appendix A): 128 x 128 cells whose
+// width is one eighth of a nominal forward action, anchored at the start pose on the
+// floor plane. Everything is floor-normalised: a cell is (d_fwd / 8) * kappa_0 map units
+// wide, kappa_0 the camera-to-floor distance at the anchor, d_fwd the forward action
+// divided by the eye height (256 / 50), so the grid means the same under any SLAM scale.
+//
+// Terms, for a candidate whose trajectory samples have floor positions x_1..x_L:
+//  - visited cells: cells containing a committed trajectory sample.
+//  - C_new   = |cells(x_1..x_L) \ visited| / cells_per_d_fwd
+//              (a straight forward action into unvisited space scores about 1).
+//  - frontier: observed-floor cells (points with |h| <= floor_band) with at least one
+//              4-neighbour never observed as floor.
+//  - C_front = 1 / (1 + D / cells_per_d_fwd), D the distance in cells from the last
+//              sample's cell to the nearest frontier cell (0 when there is no frontier).
+//  - C       = C_new + frontier_weight * C_front
+//  - P       = |horizontal displacement x_L - x_0| / (d_fwd * kappa_0): forward progress
+//              in nominal forward actions, independent of the direction turned.
+// Positions outside the grid are clamped out (they add no cells).
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "valerant/config/config.h"
+#include "valerant/explore/floor_plane.h"
+
+namespace valerant {
+
+using Cell = std::pair<int, int>;
+
+struct CoverageTerms {
+  double c_new = 0;
+  double c_front = 0;
+  double coverage = 0;  // C
+  double progress = 0;  // P
+  std::set<Cell> cells;  // cells the candidate passes through
+};
+
+class CoverageGrid {
+ public:
+  // `anchor`: floor (with camera centre) at the start pose; `heading`: the start
+  // camera's optical axis in the map frame. `d_fwd_normalised` = d_fwd / eye height.
+  CoverageGrid(const PolicyConfig& config, const FloorPlane& anchor, const Eigen::Vector3d& heading,
+               double d_fwd_normalised);
+
+  // Cell of a map-frame point projected onto the anchor floor; false when outside.
+  bool cellOf(const Eigen::Vector3d& p, Cell& cell) const;
+  double cellSize() const { return cell_size_; }
+  int size() const { return size_; }
+
+  void markVisited(const Eigen::Vector3d& camera_centre);
+  void markObservedFloor(const Eigen::Vector3d& point);
+  bool visited(const Cell& c) const { return inside(c) && visited_[index(c)]; }
+  bool observed(const Cell& c) const { return inside(c) && observed_[index(c)]; }
+  bool isFrontier(const Cell& c) const;
+
+  // Scores a candidate from its camera centres (first = the start of the candidate).
+  CoverageTerms score(const std::vector<Eigen::Vector3d>& camera_centres) const;
+
+  // (u, v) of a map-frame point on the anchor floor, in map units from the anchor.
+  Eigen::Vector2d floorCoordinates(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d d = p - origin_;
+    return {d.dot(axis_u_), d.dot(axis_v_)};
+  }
+  // Map-frame position of a cell centre on the anchor floor (for drawing).
+  Eigen::Vector3d cellCentre(const Cell& c) const;
+
+ private:
+  bool inside(const Cell& c) const { return c.first >= 0 && c.second >= 0 && c.first < size_ && c.second < size_; }
+  size_t index(const Cell& c) const { return static_cast<size_t>(c.first) * size_ + c.second; }
+  double frontierDistance(const Cell& from) const;
+
+  PolicyConfig config_;
+  int size_;
+  double cell_size_, d_fwd_map_;
+  Eigen::Vector3d origin_, axis_u_, axis_v_, normal_;
+  std::vector<uint8_t> visited_, observed_;
+};
+
+}  // namespace valerant

@@ -1,0 +1,98 @@
+#pragma once
+// The exploration loop (paper section 3.2, DESIGN.md section 1), without ROS. Each
+// step: a synchronised checkpoint of world and SLAM; five candidate rollouts from the
+// committed state, each reconstructed and judged in its own thread; the argmax of
+// eq. 2 over admissible candidates is committed (its rollout and SLAM branch are
+// reused: both backends are deterministic) and fused into the map; a dead pocket
+// rewinds to an earlier checkpoint and grows the failed-region memory (eq. 8).
+#include <atomic>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "valerant/config/config.h"
+#include "valerant/explore/branch_evaluator.h"
+#include "valerant/explore/coverage_grid.h"
+#include "valerant/explore/failed_region_memory.h"
+#include "valerant/explore/floor_estimator.h"
+#include "valerant/explore/rewind_controller.h"
+#include "valerant/map/map_fusion.h"
+#include "valerant/slam/slam.h"
+#include "valerant/world/world_model.h"
+
+namespace valerant {
+
+// Per-candidate facts kept for reports and drawings.
+struct CandidateRecord {
+  BranchVerdict verdict;
+  std::vector<Eigen::Vector3d> centres;  // map frame
+  std::vector<FrameTruth> truth;         // ground truth of its frames (engine only)
+};
+
+struct StepRecord {
+  int step = 0;                // 1-based exploration step (stalls count, rewinds do not)
+  uint64_t checkpoint = 0;     // synchronised checkpoint taken before the step
+  std::vector<CandidateRecord> candidates;
+  int chosen = -1;             // index into candidates, -1 on a stall
+  bool rewind = false;
+  uint64_t rewind_to = 0;
+  int discarded_steps = 0;
+  StageSeconds seconds;
+  double wall_seconds = 0;
+};
+
+class Episode {
+ public:
+  // Feeds the world's context (the single starting screenshot) to `slam`.
+  Episode(WorldModel& world, std::unique_ptr<Slam> slam, const Config& config);
+
+  StepRecord step();
+  bool finished() const;
+  void runUntilDone(const std::function<void(const StepRecord&)>& on_step, const std::atomic<bool>* stop = nullptr);
+
+  int committedSteps() const { return committed_steps_; }
+  int rewinds() const { return rewinder_.rewinds(); }
+  const MapFusion& map() const { return map_; }
+  const CoverageGrid& grid() const { return *grid_; }
+  const FailedRegionMemory& failed() const { return failed_; }
+  const std::vector<Eigen::Isometry3d>& trajectory() const { return trajectory_; }  // committed frames
+  const std::vector<FrameTruth>& truth() const { return truth_; }  // ground truth of committed frames
+  const std::vector<StepRecord>& history() const { return history_; }
+  double anchorEyeHeight() const { return anchor_kappa_; }  // kappa_0, map units
+  const Config& config() const { return config_; }
+
+ private:
+  struct Saved {
+    std::shared_ptr<const SlamState> slam;
+    FloorEstimator floor;
+    CoverageGrid grid;
+    size_t map_marker, trajectory_size;
+    int committed_steps;
+  };
+  void anchorGrid();
+  void commit(BranchOutcome& outcome);
+  void rewind(const RewindDecision& decision, StepRecord& record);
+  void release(const std::vector<uint64_t>& checkpoints);
+
+  WorldModel& world_;
+  std::unique_ptr<Slam> slam_;
+  Config config_;
+  double d_fwd_normalised_;
+  FloorEstimator floor_;
+  std::optional<CoverageGrid> grid_;
+  double anchor_kappa_ = 1;
+  bool anchored_on_reliable_floor_ = false;
+  MapFusion map_;
+  FailedRegionMemory failed_;
+  RewindController rewinder_;
+  std::map<uint64_t, Saved> saved_;
+  std::vector<Eigen::Isometry3d> trajectory_;
+  std::vector<FrameTruth> truth_;
+  std::vector<StepRecord> history_;
+  int committed_steps_ = 0, steps_ = 0;
+};
+
+}  // namespace valerant

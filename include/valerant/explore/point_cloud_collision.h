@@ -1,0 +1,37 @@
+#pragma once
+// Point-cloud collision, paper eq. 6: does the reconstructed geometry of a candidate
+// enter a floor-normalised vertical body cylinder along its trajectory?
+//   count_i = #{p : dist_perp(p, c_i) / kappa_i <= rho,  eta_low <= h(p) <= eta_high,
+//                 confidence(p) >= 4}
+//   collision iff count_i >= N_occ at two consecutive samples i-1, i,
+//                 or count_i >= N_imm (300) at one sample (a deep penetration).
+// dist_perp is measured from the body axis, the line through the camera centre c_i
+// along the floor normal n_i of sample i; kappa_i = n_i.(c_i - q_i). h(p) uses the
+// floor of the point's own source keyframe (eq. 5). Rotation-only candidates are
+// exempt: they add no translational penetration.
+#include <Eigen/Core>
+#include <vector>
+
+#include "valerant/config/config.h"
+#include "valerant/explore/floor_plane.h"
+
+namespace valerant {
+
+struct HeightedPoint {
+  Eigen::Vector3d position;
+  double h = 0;  // normalised height from its source keyframe's floor
+  float confidence = 0;
+};
+
+struct PointCloudCollision {
+  bool collision = false;
+  int occupied_max = 0;  // largest count_i over the samples
+  int sample = -1;       // first sample where the test fired
+};
+
+// `samples`: one floor per trajectory sample, with FloorPlane::c its camera centre.
+PointCloudCollision detectPointCloudCollision(const std::vector<HeightedPoint>& points,
+                                              const std::vector<FloorPlane>& samples,
+                                              const CollisionConfig& config, bool rotation_only);
+
+}  // namespace valerant

@@ -1,0 +1,18 @@
+#pragma once
+// Action selection, paper eq. 2:
+//   m* = argmax_{m admissible} lambda_cov C_m + lambda_prog P_m
+// A candidate is admissible when neither collision test fired (B = 0), its SLAM did
+// not lose track and it does not enter the failed-region memory. Ties go to the
+// candidate listed first (the paper's order uw, jw, lw, jq, lq), so a run is
+// deterministic. No admissible candidate: a stall (returns -1).
+#include <vector>
+
+#include "valerant/config/config.h"
+#include "valerant/explore/branch_verdict.h"
+
+namespace valerant {
+
+// Fills score, admissible and reason of every verdict; returns the chosen index or -1.
+int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& config);
+
+}  // namespace valerant

@@ -1,0 +1,63 @@
+#pragma once
+// Dead-pocket rewind (paper section 3.3.3, eq. 8, appendix A). A dead pocket is
+// declared after `rotation_only_steps` (3) consecutive steps that commit a rotation
+// only or stall. The agent then returns to the checkpoint taken just before its most
+// recent translational commit, the state before it walked into the pocket, and every
+// cell the discarded steps passed through goes into the failed-region memory F.
+//
+// Rewind anchors: the checkpoints taken before translational commits; the
+// `checkpoints_kept` (3) most recent are retained, older ones released. A checkpoint
+// before a rotation-only step is no anchor: rewinding to it would leave the agent in
+// the very pocket it is escaping. Each rewind consumes its anchor, so a second dead
+// pocket reaches further back. At most `max_rewinds` (2) per episode.
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <set>
+#include <vector>
+
+#include "valerant/config/config.h"
+#include "valerant/explore/coverage_grid.h"
+
+namespace valerant {
+
+struct RewindDecision {
+  uint64_t checkpoint = 0;           // where to go back to
+  int discarded_steps = 0;           // committed steps undone
+  std::set<Cell> failed_cells;       // cells to add to F (the anchor's own cell excluded)
+};
+
+class RewindController {
+ public:
+  explicit RewindController(const DeadPocketConfig& config) : config_(config) {}
+
+  // One exploration step that started from `checkpoint` (whose camera stood in
+  // `start_cell`): either a commit (translational or rotation-only) passing through
+  // `cells`, or a stall. Returns the checkpoints that are no longer needed.
+  std::vector<uint64_t> recordStep(uint64_t checkpoint, const Cell& start_cell, bool committed,
+                                   bool rotation_only, const std::set<Cell>& cells);
+  // A rewind when a dead pocket is declared and one is allowed and possible.
+  std::optional<RewindDecision> check();
+  // Applies `decision` (after the caller restored its checkpoint); returns checkpoints
+  // that are no longer needed.
+  std::vector<uint64_t> apply(const RewindDecision& decision);
+
+  int rewinds() const { return rewinds_; }
+  int stalledSteps() const { return stalled_; }
+  // Every checkpoint the controller may still rewind to.
+  std::vector<uint64_t> retained() const;
+
+ private:
+  struct Step {
+    uint64_t checkpoint;
+    Cell start_cell;
+    bool translational;
+    std::set<Cell> cells;
+  };
+  DeadPocketConfig config_;
+  std::deque<Step> steps_;  // since the oldest retained anchor
+  int stalled_ = 0;         // consecutive rotation-only or stalled steps
+  int rewinds_ = 0;
+};
+
+}  // namespace valerant

@@ -1,0 +1,79 @@
+#pragma once
+// Tuning of the visual (monocular RGB) SLAM backend. All values are [ours]: the paper
+// uses MASt3R-SLAM and gives none of them. They were chosen on engine rollouts at
+// 320x240 with a 90 deg horizontal field of view; pixel values are at that size.
+#include <cstdint>
+
+namespace valerant {
+
+struct FeatureTrackerParams {
+  int max_features = 400;           // tracks kept alive
+  int redetect_below = 300;         // detect new corners when fewer tracks survive
+  double corner_quality = 0.003;    // goodFeaturesToTrack qualityLevel (lightmapped walls are dim)
+  int min_distance_px = 8;          // spacing of corners, keeps PnP and BA well spread
+  int window_px = 15;               // KLT window
+  int pyramid_levels = 3;           // KLT pyramid (level 3 = 1/8 size) covers fast yaw
+  double max_forward_backward_px = 0.7;  // forward-backward disagreement that drops a track
+};
+
+struct TwoViewParams {
+  double ransac_threshold_px = 1.0;  // essential matrix / homography inlier distance
+  int min_points = 60;               // triangulated points needed to start a map
+  double min_point_parallax_deg = 1.0;   // a point with less is too depth-ambiguous to keep
+  double min_median_parallax_deg = 2.0;  // the pair as a whole must have this much
+  double max_reprojection_px = 2.0;      // triangulated point must reproject this close
+  // Median flow left after removing the best rotation, below which the motion is
+  // treated as rotation only (no triangulation attempted).
+  double rotation_parallax_px = 1.5;
+};
+
+struct PnpParams {
+  int min_inliers = 15;           // fewer and the frame falls back to rotation-only / lost
+  double threshold_px = 2.0;      // RANSAC inlier distance
+  int iterations = 100;
+  double confidence = 0.99;
+};
+
+struct KeyframeParams {
+  int max_interval = 6;                // frames; keeps the plane-sweep baseline short
+  double min_tracked_ratio = 0.7;      // new keyframe when tracked map points fall below this share
+  double min_baseline_ratio = 0.02;    // baseline / median scene depth needed for a keyframe
+  // Camera displacement over `rotation_window` frames, relative to the median scene depth,
+  // below which a frame is rotation only (its translation is then held fixed).
+  double rotation_only_ratio = 0.006;
+  int rotation_window = 3;
+  int min_tracks = 20;                 // fewer surviving tracks = tracking lost
+};
+
+struct BundleAdjustmentParams {
+  int window = 5;               // keyframes optimised; older observers are held fixed
+  double huber_px = 1.0;        // robust loss scale
+  int max_iterations = 8;
+  double max_error_px = 3.0;    // points reprojecting worse after BA are dropped
+};
+
+struct PlaneSweepParams {
+  int downsample = 2;            // sweep at 1/2 resolution (160x120): the speed budget
+  int planes = 64;               // inverse-depth hypotheses between 0 and 1/near
+  int sources = 2;               // nearby keyframes compared with each frame
+  int window_px = 5;             // SAD window at sweep resolution
+  double truncation = 24.0;      // per-pixel |difference| cap (8-bit levels): occlusions, borders
+  double noise_level = 2.0;      // SAD floor (8-bit levels): rendering / resampling noise
+  double min_baseline_ratio = 0.04;   // source baseline / median scene depth
+  double max_view_angle_deg = 50;     // source optical axis within this angle of the frame's
+  double near_fraction = 0.4;         // nearest plane at this fraction of the 2nd-percentile point depth
+  double confidence_gain = 6.0;       // see PlaneSweep's confidence mapping
+  double max_confidence = 20.0;
+};
+
+struct VisualSlamParams {
+  FeatureTrackerParams tracker;
+  TwoViewParams two_view;
+  PnpParams pnp;
+  KeyframeParams keyframe;
+  BundleAdjustmentParams bundle_adjustment;
+  PlaneSweepParams sweep;
+  uint64_t seed = 0;  // seeds every RANSAC call (together with the frame index)
+};
+
+}  // namespace valerant

@@ -1,0 +1,47 @@
+#include "valerant/explore/episode_json.h"
+
+namespace valerant {
+
+nlohmann::json toJson(const BranchVerdict& v) {
+  return {{"candidate", v.candidate},     {"rotation_only", v.rotation_only},
+          {"collision_pc", v.collision_pc}, {"collision_depth", v.collision_depth},
+          {"occupied_max", v.occupied_max}, {"min_near_ratio", std::isfinite(v.min_near_ratio) ? v.min_near_ratio : -1.0},
+          {"slam_lost", v.slam_lost},       {"enters_failed", v.enters_failed},
+          {"c_new", v.c_new},               {"c_front", v.c_front},
+          {"coverage", v.coverage},         {"progress", v.progress},
+          {"score", v.score},               {"admissible", v.admissible},
+          {"reason", v.reason}};
+}
+
+nlohmann::json toJson(const StageSeconds& s) {
+  return {{"render", s.render}, {"slam", s.slam},     {"floor", s.floor},
+          {"collision", s.collision}, {"policy", s.policy}, {"fusion", s.fusion}};
+}
+
+nlohmann::json toJson(const StepRecord& r) {
+  nlohmann::json verdicts = nlohmann::json::array();
+  int in_solid_frames = 0;
+  for (const auto& c : r.candidates) {
+    nlohmann::json v = toJson(c.verdict);
+    if (!c.truth.empty()) {
+      int solid = 0;
+      for (const auto& f : c.truth) solid += f.in_solid;
+      v["truth_in_solid_frames"] = solid;
+      if (&c - r.candidates.data() == r.chosen) in_solid_frames = solid;
+    }
+    verdicts.push_back(v);
+  }
+  return {{"step", r.step},
+          {"checkpoint", r.checkpoint},
+          {"chosen", r.chosen >= 0 ? r.candidates[r.chosen].verdict.candidate : ""},
+          {"stall", r.chosen < 0},
+          {"verdicts", verdicts},
+          {"committed_in_solid_frames", in_solid_frames},
+          {"rewind", r.rewind},
+          {"rewind_to", r.rewind_to},
+          {"discarded_steps", r.discarded_steps},
+          {"seconds", toJson(r.seconds)},
+          {"wall_seconds", r.wall_seconds}};
+}
+
+}  // namespace valerant

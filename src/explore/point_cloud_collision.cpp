@@ -1,0 +1,40 @@
+#include "valerant/explore/point_cloud_collision.h"
+
+namespace valerant {
+
+PointCloudCollision detectPointCloudCollision(const std::vector<HeightedPoint>& points,
+                                              const std::vector<FloorPlane>& samples,
+                                              const CollisionConfig& config, bool rotation_only) {
+  PointCloudCollision result;
+  // Only body-level, confident points can ever count; filter them once.
+  std::vector<Eigen::Vector3d> body;
+  for (const auto& p : points)
+    if (p.confidence >= config.min_confidence && p.h >= config.height_low && p.h <= config.height_high)
+      body.push_back(p.position);
+
+  int run = 0;  // consecutive samples at or above N_occ
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const FloorPlane& s = samples[i];
+    const double kappa = s.cameraHeight();
+    int count = 0;
+    if (kappa > 0) {
+      const double radius2 = (config.body_radius * kappa) * (config.body_radius * kappa);
+      for (const auto& p : body) {
+        const Eigen::Vector3d v = p - s.c;
+        const Eigen::Vector3d horizontal = v - v.dot(s.n) * s.n;
+        count += horizontal.squaredNorm() <= radius2;
+      }
+    }
+    result.occupied_max = std::max(result.occupied_max, count);
+    run = count >= config.n_occ ? run + 1 : 0;
+    const bool sustained = run >= config.n_occ_consecutive;
+    const bool deep = count >= config.n_occ_immediate;
+    if (!rotation_only && !result.collision && (sustained || deep)) {
+      result.collision = true;
+      result.sample = static_cast<int>(i);
+    }
+  }
+  return result;
+}
+
+}  // namespace valerant

@@ -1,0 +1,61 @@
+#include "valerant/explore/rewind_controller.h"
+
+#include <algorithm>
+
+namespace valerant {
+
+std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Cell& start_cell, bool committed,
+                                                   bool rotation_only, const std::set<Cell>& cells) {
+  const bool translational = committed && !rotation_only;
+  stalled_ = translational ? 0 : stalled_ + 1;
+  steps_.push_back({checkpoint, start_cell, translational, committed ? cells : std::set<Cell>{}});
+  std::vector<uint64_t> released;
+  if (!translational) return released;
+  // Keep the steps from the oldest retained anchor on; release what lies before it.
+  int anchors = 0;
+  size_t keep_from = steps_.size();
+  for (size_t i = steps_.size(); i-- > 0;) {
+    if (steps_[i].translational && ++anchors > config_.checkpoints_kept) break;
+    keep_from = i;
+  }
+  for (size_t i = 0; i < keep_from; ++i) released.push_back(steps_[i].checkpoint);
+  steps_.erase(steps_.begin(), steps_.begin() + keep_from);
+  return released;
+}
+
+std::optional<RewindDecision> RewindController::check() {
+  if (!config_.enabled || stalled_ < config_.rotation_only_steps || rewinds_ >= config_.max_rewinds)
+    return std::nullopt;
+  // The most recent anchor: the last translational step.
+  auto anchor = std::find_if(steps_.rbegin(), steps_.rend(), [](const Step& s) { return s.translational; });
+  if (anchor == steps_.rend()) return std::nullopt;
+  RewindDecision d;
+  const auto first = anchor.base() - 1;  // forward iterator to the anchor step
+  d.checkpoint = first->checkpoint;
+  for (auto it = first; it != steps_.end(); ++it) {
+    d.failed_cells.insert(it->cells.begin(), it->cells.end());
+    ++d.discarded_steps;
+  }
+  d.failed_cells.erase(first->start_cell);
+  return d;
+}
+
+std::vector<uint64_t> RewindController::apply(const RewindDecision& decision) {
+  std::vector<uint64_t> released;
+  auto first = std::find_if(steps_.begin(), steps_.end(),
+                            [&](const Step& s) { return s.checkpoint == decision.checkpoint; });
+  // The anchor's own checkpoint is consumed too: the next rewind reaches further back.
+  for (auto it = first; it != steps_.end(); ++it) released.push_back(it->checkpoint);
+  steps_.erase(first, steps_.end());
+  stalled_ = 0;
+  ++rewinds_;
+  return released;
+}
+
+std::vector<uint64_t> RewindController::retained() const {
+  std::vector<uint64_t> ids;
+  for (const auto& s : steps_) ids.push_back(s.checkpoint);
+  return ids;
+}
+
+}  // namespace valerant

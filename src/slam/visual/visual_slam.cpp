@@ -1,0 +1,520 @@
+#include "valerant/slam/visual/visual_slam.h"
+
+#include <algorithm>
+#include <limits>
+#include <map>
+#include <opencv2/imgproc.hpp>
+#include <unordered_map>
+
+#include "valerant/common/error.h"
+#include "valerant/slam/oracle_slam.h"
+#include "valerant/slam/visual/local_bundle_adjustment.h"
+#include "valerant/slam/visual/pinhole.h"
+#include "valerant/slam/visual/plane_sweep.h"
+#include "valerant/slam/visual/pnp_tracker.h"
+#include "valerant/slam/visual/rotation_model.h"
+#include "valerant/slam/visual/triangulation.h"
+#include "valerant/slam/visual/two_view_initializer.h"
+
+namespace valerant {
+
+using visual::KeyframeImages;
+using visual::MapPoint;
+using visual::Observation;
+using visual::Track;
+
+namespace {
+
+constexpr size_t kMaxPendingFrames = 30;
+
+double quantile(std::vector<double> v, double q) {
+  const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(i), v.end());
+  return v[i];
+}
+
+// OpenCV's RANSACs draw from the calling thread's RNG: reseed it per frame so a branch
+// gives the same result whatever thread runs it and whatever ran there before.
+void seedRng(uint64_t seed, int frame) {
+  const uint64_t mixed = (seed + 1) * 0x9E3779B97F4A7C15ULL + static_cast<uint64_t>(frame);
+  cv::setRNGSeed(static_cast<int>(mixed >> 33));
+}
+
+cv::Mat unknown(const cv::Size& size, float value) { return cv::Mat(size, CV_32F, cv::Scalar(value)); }
+
+}  // namespace
+
+VisualSlam::VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config, const VisualSlamParams& params)
+    : intrinsics_(intrinsics),
+      sweep_intrinsics_(visual::downsampled(intrinsics, std::max(1, params.sweep.downsample))),
+      config_(config),
+      params_(params),
+      state_(params.tracker) {
+  if (intrinsics.width < 16 || intrinsics.height < 16 || !(intrinsics.fx > 0) || !(intrinsics.fy > 0))
+    throw InputError("visual SLAM intrinsics", "need a positive focal length and an image of at least 16x16");
+  if (params.sweep.downsample < 1 || params.sweep.planes < 4 || params.sweep.sources < 1)
+    throw InputError("visual SLAM plane sweep parameters", "need downsample >= 1, planes >= 4, sources >= 1");
+}
+
+TrackedFrame VisualSlam::track(const SlamInput& input) {
+  if (input.rgb.type() != CV_8UC3 || input.rgb.cols != intrinsics_.width || input.rgb.rows != intrinsics_.height)
+    throw InputError("SLAM input frame", "must be 8-bit RGB of " + std::to_string(intrinsics_.width) + "x" +
+                                             std::to_string(intrinsics_.height));
+  State& s = state_;
+  Frame frame;
+  frame.index = static_cast<int>(s.frames.size());
+  frame.rgb = input.rgb.clone();  // kept by keyframes: must not alias the caller's buffer
+  cv::cvtColor(frame.rgb, frame.gray, cv::COLOR_RGB2GRAY);
+  cv::Mat small;
+  cv::resize(frame.gray, small, cv::Size(sweep_intrinsics_.width, sweep_intrinsics_.height), 0, 0, cv::INTER_AREA);
+  small.convertTo(frame.sweep, CV_32F);
+  seedRng(params_.seed, frame.index);
+
+  s.tracker.track(frame.gray);
+  const Eigen::Isometry3d last = s.frames.empty() ? Eigen::Isometry3d::Identity() : framePose(frame.index - 1);
+  frame.pose = last;
+  TrackedFrame out;
+  bool ok = false;
+  if (static_cast<int>(s.tracker.tracks().size()) >= params_.keyframe.min_tracks) {
+    if (s.mode == Mode::kMapped) {
+      ok = trackMapped(frame, out);
+      if (!ok) startReference(frame, last, true);
+    }
+    if (!ok && s.mode == Mode::kReference) ok = trackReference(frame, out);
+  }
+  if (!ok) {
+    // Nothing to track against (first frame) or tracking failed: restart from here at
+    // the last known pose. Only a first frame with usable corners is not a loss.
+    const bool first = s.frames.empty();
+    frame.pose = last;
+    startReference(frame, last, false);
+    out = TrackedFrame();
+    out.state = first && static_cast<int>(s.tracker.tracks().size()) >= params_.keyframe.min_tracks
+                    ? TrackingState::kInitializing
+                    : TrackingState::kLost;
+  }
+  out.camera_to_map = frame.pose;
+  denseDepth(frame, out);
+  if (frame.new_keyframe) {
+    frame.new_keyframe->depth = out.depth.clone();  // the caller may write into out.depth
+    frame.new_keyframe->confidence = out.confidence.clone();
+  }
+  if (!out.keyframe) s.tracker.detect(frame.gray, -1);
+
+  FramePose record;
+  record.keyframe = s.map.keyframes.empty() ? -1 : static_cast<int>(s.map.keyframes.size()) - 1;
+  record.pose = record.keyframe < 0 ? frame.pose : s.map.keyframes[record.keyframe]->camera_to_map.inverse() * frame.pose;
+  s.frames.push_back(record);
+  s.prev_rgb = frame.rgb;
+  s.prev_sweep = frame.sweep;
+  return out;
+}
+
+Eigen::Isometry3d VisualSlam::framePose(int index) const {
+  const FramePose& f = state_.frames[index];
+  return f.keyframe < 0 ? f.pose : state_.map.keyframes[f.keyframe]->camera_to_map * f.pose;
+}
+
+std::vector<Eigen::Isometry3d> VisualSlam::trajectory() const {
+  std::vector<Eigen::Isometry3d> out;
+  out.reserve(state_.frames.size());
+  for (size_t i = 0; i < state_.frames.size(); ++i) out.push_back(framePose(static_cast<int>(i)));
+  return out;
+}
+
+bool VisualSlam::trackMapped(Frame& frame, TrackedFrame& out) {
+  State& s = state_;
+  auto& tracks = s.tracker.tracks();
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  std::vector<size_t> which;
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    const int id = tracks[i].point;
+    if (id < 0 || !s.map.points[id]) continue;
+    object.emplace_back(s.map.points[id]->position.cast<float>().x(), s.map.points[id]->position.cast<float>().y(),
+                        s.map.points[id]->position.cast<float>().z());
+    image.push_back(tracks[i].px);
+    which.push_back(i);
+  }
+  const int n = frame.index;
+  Eigen::Isometry3d guess = framePose(n - 1);
+  if (n >= 2) guess = guess * (framePose(n - 2).inverse() * guess);  // constant velocity
+  const auto pnp = visual::solvePnp(object, image, intrinsics_, guess, params_.pnp);
+  if (!pnp) return false;
+
+  // Outlier tracks slipped or were mis-triangulated: drop them.
+  std::vector<char> keep(tracks.size(), 1);
+  for (size_t i : which) keep[i] = 0;
+  std::vector<int> inlier_ids;
+  for (int j : pnp->inliers) {
+    keep[which[j]] = 1;
+    inlier_ids.push_back(tracks[which[j]].point);
+  }
+  std::vector<Track> kept;
+  for (size_t i = 0; i < tracks.size(); ++i)
+    if (keep[i]) kept.push_back(tracks[i]);
+  tracks = std::move(kept);
+  frame.pose = pnp->camera_to_map;
+  updateSceneDepth(frame.pose, inlier_ids);
+
+  // Rotation only: the camera centre moved less than a sliver of the scene depth over
+  // the last few frames. Its translation is then noise: hold the position.
+  const int window = params_.keyframe.rotation_window;
+  const int back = std::max(0, n - window);
+  const double moved = (frame.pose.translation() - framePose(back).translation()).norm() / s.median_depth;
+  out.rotation_only = moved < params_.keyframe.rotation_only_ratio * (n - back) / window;
+  if (out.rotation_only) frame.pose.translation() = framePose(n - 1).translation();
+  out.state = TrackingState::kTracking;
+
+  const bool due = n - s.keyframe_frame >= params_.keyframe.max_interval ||
+                   inlier_ids.size() < params_.keyframe.min_tracked_ratio * s.inliers_at_keyframe;
+  const Eigen::Vector3d newest = s.map.keyframes.back()->camera_to_map.translation();
+  const double baseline = (frame.pose.translation() - newest).norm() / s.median_depth;
+  if (!out.rotation_only && due && baseline >= params_.keyframe.min_baseline_ratio) {
+    makeKeyframe(frame);
+    out.keyframe = true;
+  }
+  return true;
+}
+
+bool VisualSlam::trackReference(Frame& frame, TrackedFrame& out) {
+  State& s = state_;
+  auto& tracks = s.tracker.tracks();
+  if (!s.map.keyframes.empty()) {
+    // Map points may still be in view (a short PnP failure): try them first.
+    const auto mapped = std::count_if(tracks.begin(), tracks.end(),
+                                      [&](const Track& t) { return t.point >= 0 && s.map.points[t.point]; });
+    if (mapped >= params_.pnp.min_inliers && trackMapped(frame, out)) {
+      s.mode = Mode::kMapped;
+      s.pending.clear();
+      for (Track& t : tracks) t.referenced = false;
+      return true;
+    }
+  }
+  std::vector<cv::Point2f> a, b;
+  for (const Track& t : tracks) {
+    if (!t.referenced) continue;
+    a.push_back(t.reference_px);
+    b.push_back(t.px);
+  }
+  const auto rotation = visual::estimateRotation(a, b, intrinsics_, params_.two_view.ransac_threshold_px,
+                                                 params_.keyframe.min_tracks);
+  const bool parallax = !rotation || rotation->median_parallax_px >= params_.two_view.rotation_parallax_px;
+  if (parallax && initializeMap(frame, out)) return true;
+  if (!rotation) return false;
+
+  // bearing_b = R bearing_a  =>  camera b's axes in the map are R_a R^T.
+  frame.pose = s.reference.camera_to_map;
+  frame.pose.linear() = s.reference.camera_to_map.linear() * rotation->b_from_a.transpose();
+  out.rotation_only = true;
+  out.state = s.map.keyframes.empty() ? TrackingState::kInitializing : TrackingState::kTracking;
+  PendingFrame pending;
+  pending.frame = frame.index;
+  for (const Track& t : tracks)
+    if (t.referenced) pending.pixels.emplace_back(t.id, t.px);
+  s.pending.push_back(std::move(pending));
+  if (s.pending.size() > kMaxPendingFrames) s.pending.erase(s.pending.begin());
+
+  // A turning camera loses its reference tracks: move the reference along, unless a
+  // translation is building parallax (then keep it while enough tracks remain).
+  const int remaining = static_cast<int>(a.size());
+  const bool stale = remaining < 2 * params_.two_view.min_points ||
+                     (!parallax && remaining < s.reference.tracks_at_start / 2);
+  if (stale) startReference(frame, frame.pose, false);
+  return true;
+}
+
+void VisualSlam::startReference(const Frame& frame, const Eigen::Isometry3d& pose, bool from_previous) {
+  State& s = state_;
+  s.mode = Mode::kReference;
+  s.reference.frame = from_previous ? frame.index - 1 : frame.index;
+  s.reference.camera_to_map = pose;
+  s.reference.rgb = from_previous ? s.prev_rgb : frame.rgb;
+  s.reference.sweep = from_previous ? s.prev_sweep : frame.sweep;
+  if (!from_previous) s.tracker.detect(frame.gray, -1, true);
+  for (Track& t : s.tracker.tracks()) {
+    t.referenced = true;
+    t.reference_px = from_previous ? t.prev_px : t.px;
+  }
+  s.reference.tracks_at_start = static_cast<int>(s.tracker.tracks().size());
+}
+
+bool VisualSlam::initializeMap(Frame& frame, TrackedFrame& out) {
+  State& s = state_;
+  auto& tracks = s.tracker.tracks();
+  std::vector<cv::Point2f> a, b;
+  std::vector<size_t> which;
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    if (!tracks[i].referenced) continue;
+    a.push_back(tracks[i].reference_px);
+    b.push_back(tracks[i].px);
+    which.push_back(i);
+  }
+  const auto two_view = visual::initializeTwoView(a, b, intrinsics_, params_.two_view);
+  if (!two_view) return false;
+
+  // Scale: from map points seen by both views if there are some, else the last
+  // median scene depth (1 for the first map).
+  const Eigen::Isometry3d reference = s.reference.camera_to_map;
+  const Eigen::Isometry3d map_to_reference = reference.inverse();
+  std::vector<double> ratios, depths;
+  for (size_t j = 0; j < two_view->indices.size(); ++j) {
+    const Track& t = tracks[which[two_view->indices[j]]];
+    depths.push_back(two_view->points[j].z());
+    if (t.point >= 0 && s.map.points[t.point])
+      ratios.push_back((map_to_reference * s.map.points[t.point]->position).z() / two_view->points[j].z());
+  }
+  const double scale = ratios.size() >= 5 ? quantile(ratios, 0.5) : s.median_depth / quantile(depths, 0.5);
+  Eigen::Isometry3d b_to_a = two_view->b_to_a;
+  b_to_a.translation() *= scale;
+  frame.pose = reference * b_to_a;
+
+  const int ka = static_cast<int>(s.map.keyframes.size()), kb = ka + 1;
+  auto images_a = addKeyframe(s.reference.rgb, s.reference.sweep, s.reference.frame, reference);
+  frame.new_keyframe = addKeyframe(frame.rgb, frame.sweep, frame.index, frame.pose);
+  for (size_t j = 0; j < two_view->indices.size(); ++j) {
+    const size_t k = two_view->indices[j];
+    Track& t = tracks[which[k]];
+    const std::vector<Observation> seen = {{ka, {a[k].x, a[k].y}}, {kb, {b[k].x, b[k].y}}};
+    if (t.point >= 0 && s.map.points[t.point]) {
+      for (const Observation& o : seen) observe(t.point, o);
+    } else {
+      t.point = addPoint(reference * (scale * two_view->points[j]), s.reference.rgb, a[k], seen);
+    }
+    images_a->points.push_back(t.point);
+    frame.new_keyframe->points.push_back(t.point);
+  }
+  for (Track& t : tracks) {
+    if (t.point < 0) {
+      t.anchor = t.referenced ? ka : kb;
+      t.anchor_px = t.referenced ? t.reference_px : t.px;
+    }
+    t.referenced = false;
+  }
+  s.mode = Mode::kMapped;
+  // The reference frame is now keyframe ka: re-anchor its pose record.
+  if (s.reference.frame < static_cast<int>(s.frames.size()))
+    s.frames[s.reference.frame] = FramePose{ka, Eigen::Isometry3d::Identity()};
+  s.tracker.detect(frame.gray, kb, true);
+  bundleAdjust(frame);
+  resectPending(ka);
+  updateSceneDepth(frame.pose, frame.new_keyframe->points);
+  s.keyframe_frame = frame.index;
+  s.inliers_at_keyframe = static_cast<int>(frame.new_keyframe->points.size());
+
+  // Keyframe ka was tracked without depth: sweep it against the new keyframe.
+  const auto& kf_a = *s.map.keyframes[ka];
+  const visual::SweepDepth d =
+      visual::planeSweep({images_a->sweep, kf_a.camera_to_map}, {{frame.sweep, frame.pose}}, sweep_intrinsics_,
+                         params_.sweep.near_fraction * s.near_depth, params_.sweep);
+  cv::resize(d.depth, images_a->depth, frame.rgb.size(), 0, 0, cv::INTER_NEAREST);
+  cv::resize(d.confidence, images_a->confidence, frame.rgb.size(), 0, 0, cv::INTER_NEAREST);
+
+  out.state = TrackingState::kTracking;
+  out.keyframe = true;
+  out.rotation_only = false;
+  return true;
+}
+
+void VisualSlam::resectPending(int reference_keyframe) {
+  State& s = state_;
+  std::unordered_map<int, int> point_of_track;
+  for (const Track& t : s.tracker.tracks())
+    if (t.point >= 0 && s.map.points[t.point]) point_of_track[t.id] = t.point;
+  const Eigen::Isometry3d& anchor = s.map.keyframes[reference_keyframe]->camera_to_map;
+  for (const PendingFrame& p : s.pending) {
+    if (p.frame <= s.reference.frame) continue;
+    std::vector<cv::Point3f> object;
+    std::vector<cv::Point2f> image;
+    for (const auto& [id, px] : p.pixels) {
+      auto it = point_of_track.find(id);
+      if (it == point_of_track.end()) continue;
+      const Eigen::Vector3f q = s.map.points[it->second]->position.cast<float>();
+      object.emplace_back(q.x(), q.y(), q.z());
+      image.push_back(px);
+    }
+    const auto pnp = visual::solvePnp(object, image, intrinsics_, framePose(p.frame), params_.pnp);
+    if (pnp) s.frames[p.frame] = FramePose{reference_keyframe, anchor.inverse() * pnp->camera_to_map};
+  }
+  s.pending.clear();
+}
+
+void VisualSlam::makeKeyframe(Frame& frame) {
+  State& s = state_;
+  auto& tracks = s.tracker.tracks();
+  const int n = static_cast<int>(s.map.keyframes.size());
+  frame.new_keyframe = addKeyframe(frame.rgb, frame.sweep, frame.index, frame.pose);
+  std::vector<int>& seen = frame.new_keyframe->points;
+  std::map<int, std::vector<size_t>> by_anchor;
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    Track& t = tracks[i];
+    if (t.point >= 0 && s.map.points[t.point]) {
+      observe(t.point, {n, {t.px.x, t.px.y}});
+      seen.push_back(t.point);
+    } else if (t.anchor >= 0 && t.anchor < n) {
+      by_anchor[t.anchor].push_back(i);
+    } else {
+      t.anchor = n;
+      t.anchor_px = t.px;
+    }
+  }
+  const visual::TriangulationLimits limits{params_.two_view.min_point_parallax_deg,
+                                           params_.two_view.max_reprojection_px};
+  for (const auto& [anchor, indices] : by_anchor) {
+    std::vector<cv::Point2f> pa, pb;
+    for (size_t i : indices) {
+      pa.push_back(tracks[i].anchor_px);
+      pb.push_back(tracks[i].px);
+    }
+    const auto points =
+        visual::triangulate(s.map.keyframes[anchor]->camera_to_map, frame.pose, pa, pb, intrinsics_, limits);
+    for (size_t j = 0; j < indices.size(); ++j) {
+      if (!points[j]) continue;
+      Track& t = tracks[indices[j]];
+      t.point = addPoint(points[j]->position, frame.rgb, t.px,
+                         {{anchor, {pa[j].x, pa[j].y}}, {n, {pb[j].x, pb[j].y}}});
+      seen.push_back(t.point);
+    }
+  }
+  s.tracker.detect(frame.gray, n, true);
+  bundleAdjust(frame);
+  s.keyframe_frame = frame.index;
+  s.inliers_at_keyframe = static_cast<int>(std::count_if(
+      tracks.begin(), tracks.end(), [&](const Track& t) { return t.point >= 0 && s.map.points[t.point]; }));
+}
+
+void VisualSlam::bundleAdjust(Frame& frame) {
+  State& s = state_;
+  const int n = static_cast<int>(s.map.keyframes.size());
+  const int first = std::max(0, n - params_.bundle_adjustment.window);
+  std::map<int, const MapPoint*> points;
+  for (int k = first; k < n; ++k)
+    for (int id : s.map.keyframes[k]->images->points)
+      if (s.map.points[id]) points[id] = s.map.points[id].get();
+  std::map<int, Eigen::Isometry3d> poses;
+  for (const auto& [id, point] : points)
+    for (const Observation& o : point->observations) poses[o.keyframe] = s.map.keyframes[o.keyframe]->camera_to_map;
+  std::set<int> free;
+  for (int k = first; k < n; ++k)
+    if (poses.count(k)) free.insert(k);
+  // Two fixed keyframes pin the gauge, the monocular scale included.
+  for (int k = first; k < n && poses.size() - free.size() < 2; ++k) free.erase(k);
+
+  const auto result = visual::localBundleAdjustment(poses, free, points, intrinsics_, params_.bundle_adjustment);
+  for (const auto& [k, pose] : result.poses) {
+    auto kf = std::make_shared<visual::Keyframe>(*s.map.keyframes[k]);
+    kf->camera_to_map = pose;
+    s.map.keyframes[k] = std::move(kf);
+  }
+  for (const auto& [id, position] : result.points) {
+    auto p = std::make_shared<MapPoint>(*s.map.points[id]);
+    p->position = position;
+    s.map.points[id] = std::move(p);
+  }
+  for (int id : result.rejected) s.map.points[id] = nullptr;
+  for (Track& t : s.tracker.tracks()) {
+    if (t.point >= 0 && !s.map.points[t.point]) {
+      t.point = -1;
+      t.anchor = -1;
+    }
+  }
+  frame.pose = s.map.keyframes[n - 1]->camera_to_map;
+}
+
+void VisualSlam::denseDepth(const Frame& frame, TrackedFrame& out) const {
+  const State& s = state_;
+  const cv::Size size = frame.rgb.size();
+  out.depth = unknown(size, std::numeric_limits<float>::quiet_NaN());
+  out.confidence = unknown(size, 0.f);
+  if (out.state == TrackingState::kLost) return;
+  const Eigen::Vector3d centre = frame.pose.translation(), axis = frame.pose.linear().col(2);
+  const double min_cos = std::cos(params_.sweep.max_view_angle_deg * M_PI / 180.0);
+  std::vector<visual::SweepView> sources;
+  for (int k = static_cast<int>(s.map.keyframes.size()) - 1;
+       k >= 0 && static_cast<int>(sources.size()) < params_.sweep.sources; --k) {
+    const visual::Keyframe& kf = *s.map.keyframes[k];
+    if (kf.images->frame == frame.index) continue;
+    const double baseline = (kf.camera_to_map.translation() - centre).norm() / s.median_depth;
+    if (baseline < params_.sweep.min_baseline_ratio) continue;
+    if (kf.camera_to_map.linear().col(2).dot(axis) < min_cos) continue;
+    sources.push_back({kf.images->sweep, kf.camera_to_map});
+  }
+  if (sources.empty()) return;
+  const visual::SweepDepth d = visual::planeSweep({frame.sweep, frame.pose}, sources, sweep_intrinsics_,
+                                                  params_.sweep.near_fraction * s.near_depth, params_.sweep);
+  cv::resize(d.depth, out.depth, size, 0, 0, cv::INTER_NEAREST);
+  cv::resize(d.confidence, out.confidence, size, 0, 0, cv::INTER_NEAREST);
+}
+
+void VisualSlam::updateSceneDepth(const Eigen::Isometry3d& pose, const std::vector<int>& point_ids) {
+  State& s = state_;
+  const Eigen::Isometry3d map_to_camera = pose.inverse();
+  std::vector<double> depths;
+  for (int id : point_ids) {
+    if (!s.map.points[id]) continue;
+    const double z = (map_to_camera * s.map.points[id]->position).z();
+    if (z > 0) depths.push_back(z);
+  }
+  if (depths.size() < 10) return;
+  s.median_depth = quantile(depths, 0.5);
+  s.near_depth = quantile(depths, 0.02);
+}
+
+std::shared_ptr<KeyframeImages> VisualSlam::addKeyframe(const cv::Mat& rgb, const cv::Mat& sweep, int frame_index,
+                                                        const Eigen::Isometry3d& pose) {
+  auto images = std::make_shared<KeyframeImages>();
+  images->frame = frame_index;
+  images->rgb = rgb;
+  images->sweep = sweep;
+  auto kf = std::make_shared<visual::Keyframe>();
+  kf->index = static_cast<int>(state_.map.keyframes.size());
+  kf->camera_to_map = pose;
+  kf->images = images;
+  state_.map.keyframes.push_back(std::move(kf));
+  return images;
+}
+
+int VisualSlam::addPoint(const Eigen::Vector3d& position, const cv::Mat& rgb, const cv::Point2f& color_px,
+                         std::vector<Observation> observations) {
+  auto p = std::make_shared<MapPoint>();
+  p->position = position;
+  const cv::Vec3b c = rgb.at<cv::Vec3b>(cvRound(color_px.y), cvRound(color_px.x));
+  p->rgb = {c[0], c[1], c[2]};
+  p->observations = std::move(observations);
+  state_.map.points.push_back(std::move(p));
+  return static_cast<int>(state_.map.points.size()) - 1;
+}
+
+void VisualSlam::observe(int point, const Observation& observation) {
+  auto p = std::make_shared<MapPoint>(*state_.map.points[point]);
+  p->observations.push_back(observation);
+  state_.map.points[point] = std::move(p);
+}
+
+std::unique_ptr<Slam> VisualSlam::branch() const { return std::make_unique<VisualSlam>(*this); }
+
+std::shared_ptr<const SlamState> VisualSlam::snapshot() const { return std::make_shared<State>(state_); }
+
+void VisualSlam::restore(const std::shared_ptr<const SlamState>& state) {
+  const auto* s = dynamic_cast<const State*>(state.get());
+  if (!s) throw InputError("SLAM snapshot", "was not made by the visual backend");
+  state_ = *s;
+}
+
+std::vector<KeyframeCloud> VisualSlam::keyframeClouds(int first) const {
+  std::vector<KeyframeCloud> out;
+  for (size_t i = std::max(first, 0); i < state_.map.keyframes.size(); ++i) {
+    const visual::Keyframe& kf = *state_.map.keyframes[i];
+    KeyframeCloud cloud;
+    cloud.keyframe = kf.index;
+    cloud.frame = kf.images->frame;
+    cloud.camera_to_map = kf.camera_to_map;
+    if (!kf.images->depth.empty())
+      cloud.points = backProject(kf.images->rgb, kf.images->depth, kf.images->confidence, intrinsics_,
+                                 kf.camera_to_map, config_.cloud_stride_px);
+    out.push_back(std::move(cloud));
+  }
+  return out;
+}
+
+}  // namespace valerant

@@ -1,0 +1,153 @@
+// Map fusion and its files: voxel filtering, rewind truncation, the floor grid, and
+// read-back of every export with the library that reads it in the wild.
+#include <gtest/gtest.h>
+#include <octomap/ColorOcTree.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/point_types.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "valerant/common/error.h"
+#include "valerant/map/map_exports.h"
+#include "valerant/map/map_fusion.h"
+
+using namespace valerant;
+
+namespace {
+
+// A keyframe at (0, 0, 1) looking along +X over a floor z = 0 (x in [1, 3), |y| < 1)
+// and a wall at x = 3 (z in [0, 2)), points every 0.1.
+KeyframeCloud room() {
+  KeyframeCloud kf;
+  kf.camera_to_map = Eigen::Isometry3d::Identity();
+  kf.camera_to_map.translation() = Eigen::Vector3d(0, 0, 1);
+  auto add = [&](float x, float y, float z, float confidence) {
+    CloudPoint p;
+    p.position = {x, y, z};
+    p.rgb = {200, 100, 50};
+    p.confidence = confidence;
+    kf.points.push_back(p);
+  };
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) add(1 + 0.1f * i, -1 + 0.1f * j, 0, 10);
+  for (int j = 0; j < 20; ++j)
+    for (int k = 0; k < 20; ++k) add(3, -1 + 0.1f * j, 0.1f * k, 10);
+  add(2, 0, 0.5f, 1);  // below the confidence cut: never fused
+  return kf;
+}
+
+FloorPlane flatFloor() {
+  FloorPlane f;
+  f.q = {0, 0, 0};
+  f.n = {0, 0, 1};
+  f.c = {0, 0, 1};
+  return f;
+}
+
+std::string tempDir(const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/valerant_" + name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace
+
+TEST(MapFusion, FusesConfidentPointsWithHeightsAndTruncates) {
+  MapFusion map(MapConfig{}, CollisionConfig{});
+  map.fuse(room(), flatFloor());
+  EXPECT_EQ(map.pointCount(), 800u);
+  const size_t marker = map.marker();
+  map.fuse(room(), flatFloor());
+  EXPECT_EQ(map.pointCount(), 1600u);
+  map.truncate(marker);  // a rewind drops what came after the marker
+  EXPECT_EQ(map.pointCount(), 800u);
+  // Wall points at z = 0.5 have h = 0.5; floor points h = 0.
+  for (const auto& p : map.keyframes()[0]->points) EXPECT_FLOAT_EQ(p.h, p.position.z());
+  // Duplicated points collapse in the voxel grid: 0.2-sized voxels hold 2 x 2 floor
+  // points (400 / 4 = 100) and 2 x 2 wall points (400 / 4 = 100).
+  map.fuse(room(), flatFloor());
+  EXPECT_EQ(map.voxelCloud(0.2).size(), 200u);
+}
+
+TEST(MapFusion, FloorGridMarksFloorAndObstacles) {
+  MapFusion map(MapConfig{}, CollisionConfig{});
+  map.fuse(room(), flatFloor());
+  PolicyConfig policy;
+  policy.grid_cells = 16;  // 16 cells of 1 unit: extent [-8, 8)
+  const CoverageGrid grid(policy, flatFloor(), Eigen::Vector3d::UnitX(), 8.0);
+  const FloorGrid g = map.floorGrid(grid, 0.5);
+  ASSERT_EQ(g.width, 32);
+  EXPECT_DOUBLE_EQ(g.origin.x(), -8.0);
+  auto at = [&](double u, double v) {
+    return g.cells[static_cast<size_t>((v + 8) / 0.5) * g.width + static_cast<size_t>((u + 8) / 0.5)];
+  };
+  EXPECT_EQ(at(2.0, 0.0), 0);     // floor
+  EXPECT_EQ(at(3.1, 0.0), 100);   // the wall (h in the body band)
+  EXPECT_EQ(at(-4.0, 0.0), -1);   // never seen
+}
+
+TEST(MapExports, EveryFormatReadsBack) {
+  const std::string dir = tempDir("exports");
+  MapFusion map(MapConfig{}, CollisionConfig{});
+  map.fuse(room(), flatFloor());
+  const auto cloud = map.voxelCloud(0.05);
+  ASSERT_EQ(cloud.size(), 800u);
+
+  writeCloudPly(dir + "/map.ply", cloud, false);
+  pcl::PointCloud<pcl::PointXYZRGB> ply;
+  ASSERT_EQ(pcl::io::loadPLYFile(dir + "/map.ply", ply), 0);
+  ASSERT_EQ(ply.size(), 800u);
+  EXPECT_EQ(ply[0].r, 200);
+  EXPECT_EQ(ply[0].g, 100);
+
+  writeCloudPcd(dir + "/map.pcd", cloud, false);
+  pcl::PCLPointCloud2 pcd;
+  ASSERT_EQ(pcl::io::loadPCDFile(dir + "/map.pcd", pcd), 0);
+  EXPECT_EQ(pcd.width * pcd.height, 800u);
+  bool has_confidence = false;
+  for (const auto& f : pcd.fields) has_confidence |= f.name == "confidence";
+  EXPECT_TRUE(has_confidence);
+
+  auto tree = map.octree(0.1);
+  writeOctreeBt(dir + "/map.bt", *tree, false);
+  octomap::OcTree read(0.1);
+  ASSERT_TRUE(read.readBinary(dir + "/map.bt"));
+  const auto* wall = read.search(3.0, 0.05, 1.05);
+  ASSERT_NE(wall, nullptr);
+  EXPECT_TRUE(read.isNodeOccupied(wall));
+  const auto* free_space = read.search(1.5, 0.05, 0.55);  // on the ray to the wall
+  ASSERT_NE(free_space, nullptr);
+  EXPECT_FALSE(read.isNodeOccupied(free_space));
+
+  PolicyConfig policy;
+  policy.grid_cells = 16;
+  const CoverageGrid grid(policy, flatFloor(), Eigen::Vector3d::UnitX(), 8.0);
+  writeFloorGrid(dir + "/grid", map.floorGrid(grid, 0.5), false);
+  const cv::Mat image = cv::imread(dir + "/grid.pgm", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(image.cols, 32);
+  const YAML::Node yaml = YAML::LoadFile(dir + "/grid.yaml");
+  EXPECT_EQ(yaml["image"].as<std::string>(), "grid.pgm");
+  EXPECT_DOUBLE_EQ(yaml["resolution"].as<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(yaml["origin"][0].as<double>(), -8.0);
+  // Cell (u = 2, v = 0) is floor: image row = height - 1 - row.
+  EXPECT_EQ(image.at<uint8_t>(31 - 16, 20), 254);
+  EXPECT_EQ(image.at<uint8_t>(31 - 16, 22), 0);  // u = 3.0: the wall
+}
+
+TEST(MapExports, NeverOverwritesWithoutForce) {
+  const std::string dir = tempDir("overwrite");
+  MapFusion map(MapConfig{}, CollisionConfig{});
+  map.fuse(room(), flatFloor());
+  const auto cloud = map.voxelCloud(0.05);
+  writeCloudPly(dir + "/map.ply", cloud, false);
+  const auto before = std::filesystem::file_size(dir + "/map.ply");
+  EXPECT_THROW(writeCloudPly(dir + "/map.ply", std::vector<FusedPoint>(cloud.begin(), cloud.begin() + 10), false),
+               InputError);
+  EXPECT_EQ(std::filesystem::file_size(dir + "/map.ply"), before);
+  EXPECT_NO_THROW(writeCloudPly(dir + "/map.ply", cloud, true));
+  EXPECT_THROW(writeCloudPly(dir + "/missing/map.ply", cloud, false), InputError);
+}

@@ -1,0 +1,162 @@
+// Coverage/progress scores, argmax selection, failed regions and dead-pocket rewinds
+// on hand-built grids and step sequences.
+#include <gtest/gtest.h>
+
+#include "valerant/explore/coverage_grid.h"
+#include "valerant/explore/failed_region_memory.h"
+#include "valerant/explore/policy.h"
+#include "valerant/explore/rewind_controller.h"
+
+using namespace valerant;
+
+namespace {
+
+// Floor z = 0, camera 1 above at the origin, looking along +X. With d_fwd = 8 (in
+// eye heights) and 8 cells per d_fwd, every cell is exactly 1 x 1 and the anchor sits
+// at the centre of cell (64, 64); cell (64 + i, 64 + j) covers x in [i-.5, i+.5),
+// y in [j-.5, j+.5) (v = n x u = +Y).
+CoverageGrid unitGrid() {
+  FloorPlane anchor;
+  anchor.q = {0, 0, 0};
+  anchor.n = {0, 0, 1};
+  anchor.c = {0, 0, 1};
+  return CoverageGrid(PolicyConfig{}, anchor, Eigen::Vector3d::UnitX(), 8.0);
+}
+
+std::vector<Eigen::Vector3d> line(double x0, double y0, double x1, double y1, int n) {
+  std::vector<Eigen::Vector3d> c;
+  for (int i = 0; i <= n; ++i)
+    c.push_back({x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * i / n, 1.0});
+  return c;
+}
+
+}  // namespace
+
+TEST(CoverageGrid, CellsAndAnchor) {
+  const CoverageGrid g = unitGrid();
+  EXPECT_DOUBLE_EQ(g.cellSize(), 1.0);
+  Cell c;
+  ASSERT_TRUE(g.cellOf({0, 0, 0}, c));
+  EXPECT_EQ(c, Cell(64, 64));
+  ASSERT_TRUE(g.cellOf({2.4, -1.6, 5}, c));  // height does not matter
+  EXPECT_EQ(c, Cell(66, 62));
+  EXPECT_FALSE(g.cellOf({100, 0, 0}, c));
+}
+
+TEST(CoverageGrid, NewCellsFrontierAndProgress) {
+  CoverageGrid g = unitGrid();
+  // Committed so far: standing at the origin; floor observed for x in [-2, 3], |y| <= 2.
+  g.markVisited({0, 0, 1});
+  for (int x = -2; x <= 3; ++x)
+    for (int y = -2; y <= 2; ++y) g.markObservedFloor({double(x), double(y), 0});
+  // Forward 8 along +X: cells x = 0..8 -> 8 new (the origin is visited): C_new = 8/8.
+  // It ends at x = 8, 5 cells beyond the frontier at x = 3: C_front = 1/(1 + 5/8).
+  const CoverageTerms fwd = g.score(line(0, 0, 8, 0, 64));
+  EXPECT_DOUBLE_EQ(fwd.c_new, 1.0);
+  EXPECT_DOUBLE_EQ(fwd.c_front, 1.0 / (1.0 + 5.0 / 8));
+  EXPECT_DOUBLE_EQ(fwd.coverage, 1.0 + 0.5 / (1.0 + 5.0 / 8));
+  EXPECT_DOUBLE_EQ(fwd.progress, 1.0);
+  // Rotation in place: no new cell, ends 3 cells from the frontier, no progress.
+  const CoverageTerms rot = g.score(line(0, 0, 0, 0, 10));
+  EXPECT_DOUBLE_EQ(rot.c_new, 0.0);
+  EXPECT_DOUBLE_EQ(rot.c_front, 1.0 / (1.0 + 2.0 / 8));  // nearest frontier 2 cells away: x = -2 or y = +-2
+  EXPECT_DOUBLE_EQ(rot.progress, 0.0);
+  // Back over visited ground 4 cells: 4 new cells (x = -1..-4), progress 0.5.
+  const CoverageTerms back = g.score(line(0, 0, -4, 0, 32));
+  EXPECT_DOUBLE_EQ(back.c_new, 0.5);
+  EXPECT_DOUBLE_EQ(back.progress, 0.5);
+}
+
+TEST(Policy, ArgmaxOverAdmissibleWithDeterministicTies) {
+  PolicyConfig config;
+  std::vector<BranchVerdict> v(5);
+  const char* names[] = {"uw", "jw", "lw", "jq", "lq"};
+  for (int i = 0; i < 5; ++i) v[i].candidate = names[i];
+  // uw: C = 1.3, P = 1 -> 6.3 but collides; jw: C = 1.5, P = 0.875 -> 5.875;
+  // lw: C = 0.875, P = 1 -> 5.875 (a tie with jw: jw is listed first); jq/lq: 0.4.
+  v[0].coverage = 1.3, v[0].progress = 1.0, v[0].collision_depth = true;
+  v[1].coverage = 1.5, v[1].progress = 0.875;
+  v[2].coverage = 0.875, v[2].progress = 1.0;
+  v[3].coverage = 0.4;
+  v[4].coverage = 0.4;
+  EXPECT_EQ(selectBranch(v, config), 1);
+  EXPECT_DOUBLE_EQ(v[0].score, 6.3);
+  EXPECT_FALSE(v[0].admissible);
+  EXPECT_EQ(v[0].reason, "depth collision");
+  EXPECT_EQ(v[1].score, 5.875);  // exact in binary: a true tie
+  EXPECT_EQ(v[2].score, 5.875);
+  // Everything blocked: a stall.
+  for (auto& b : v) b.collision_pc = true;
+  v[3].collision_pc = v[4].collision_pc = false;
+  v[3].enters_failed = true;
+  v[4].slam_lost = true;
+  EXPECT_EQ(selectBranch(v, config), -1);
+  EXPECT_EQ(v[3].reason, "enters failed region");
+  EXPECT_EQ(v[4].reason, "slam lost");
+}
+
+TEST(FailedRegionMemory, EnteringIsLeavingTheStartCellIntoF) {
+  FailedRegionMemory f;
+  f.add({{64, 64}, {65, 64}, {66, 64}});
+  EXPECT_TRUE(f.enters({{64, 64}, {65, 64}}, {64, 64}));   // forward into the pocket
+  EXPECT_FALSE(f.enters({{64, 64}, {64, 65}}, {64, 64}));  // sideways out of it
+  EXPECT_FALSE(f.enters({{64, 64}}, {64, 64}));             // turning on the spot
+}
+
+TEST(RewindController, DeadEndRewindsBeforeThePocketAndMarksIt) {
+  DeadPocketConfig config;
+  RewindController r(config);
+  // Step 1 (checkpoint 1): forward (64,64) -> (72,64). Step 2 (checkpoint 2): forward
+  // into the dead end, (72,64) -> (75,64). Then three rotations at (75,64).
+  r.recordStep(1, {64, 64}, true, false, {{64, 64}, {68, 64}, {72, 64}});
+  r.recordStep(2, {72, 64}, true, false, {{72, 64}, {73, 64}, {74, 64}, {75, 64}});
+  EXPECT_FALSE(r.check());
+  r.recordStep(3, {75, 64}, true, true, {{75, 64}});
+  r.recordStep(4, {75, 64}, true, true, {{75, 64}});
+  EXPECT_FALSE(r.check());  // two rotations are no dead pocket yet
+  r.recordStep(5, {75, 64}, false, false, {});  // a stall counts too
+  const auto d = r.check();
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->checkpoint, 2u);  // before walking into the dead end
+  EXPECT_EQ(d->discarded_steps, 4);
+  EXPECT_EQ(d->failed_cells, (std::set<Cell>{{73, 64}, {74, 64}, {75, 64}}));  // anchor cell kept free
+  const auto released = r.apply(*d);
+  EXPECT_EQ(released, (std::vector<uint64_t>{2, 3, 4, 5}));
+  EXPECT_EQ(r.rewinds(), 1);
+  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{1}));
+}
+
+TEST(RewindController, AtMostTwoRewindsAndOnlyThreeAnchorsKept) {
+  DeadPocketConfig config;
+  RewindController r(config);
+  uint64_t id = 1;
+  std::vector<uint64_t> released;
+  for (int i = 0; i < 5; ++i) {  // five forward steps: only the last three are anchors
+    auto rel = r.recordStep(id, {64 + i, 64}, true, false, {{64 + i, 64}, {65 + i, 64}});
+    released.insert(released.end(), rel.begin(), rel.end());
+    ++id;
+  }
+  EXPECT_EQ(released, (std::vector<uint64_t>{1, 2}));
+  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{3, 4, 5}));
+  for (int rewind = 0; rewind < 3; ++rewind) {
+    for (int k = 0; k < 3; ++k) r.recordStep(id++, {69, 64}, true, true, {{69, 64}});
+    const auto d = r.check();
+    if (rewind < 2) {
+      ASSERT_TRUE(d) << "rewind " << rewind;
+      EXPECT_EQ(d->checkpoint, rewind == 0 ? 5u : 4u);  // each rewind reaches further back
+      r.apply(*d);
+    } else {
+      EXPECT_FALSE(d) << "a third rewind was allowed";
+    }
+  }
+  EXPECT_EQ(r.rewinds(), 2);
+}
+
+TEST(RewindController, DisabledNeverRewinds) {
+  DeadPocketConfig config;
+  config.enabled = false;
+  RewindController r(config);
+  r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}});
+  for (uint64_t id = 2; id < 6; ++id) r.recordStep(id, {65, 64}, true, true, {{65, 64}});
+  EXPECT_FALSE(r.check());
+}
