@@ -16,9 +16,10 @@ namespace {
 // consumed so that anything left over (a typo) is reported instead of ignored.
 class Section {
  public:
+  // An absent or empty section (`node` undefined or null) keeps every default.
   Section(const YAML::Node& node, std::string path, const std::string& source)
-      : node_(node), path_(std::move(path)), source_(source) {
-    if (node_ && !node_.IsMap()) fail(path_, "expected a mapping");
+      : node_(node), present_(node.IsDefined() && !node.IsNull()), path_(std::move(path)), source_(source) {
+    if (present_ && !node_.IsMap()) fail(path_, "expected a mapping");
   }
 
   template <typename T>
@@ -71,7 +72,7 @@ class Section {
 
   // Every key of the mapping must have been read.
   void finish() const {
-    if (!node_) return;
+    if (!present_) return;
     for (const auto& kv : node_) {
       const std::string key = kv.first.as<std::string>();
       if (!used_.count(key)) fail(name(key.c_str()), "unknown key");
@@ -79,10 +80,13 @@ class Section {
   }
 
  private:
+  // The value under `key`, or an undefined node (false in `if`) when absent. Reads
+  // through a const node: yaml-cpp's non-const operator[] would insert the key.
   YAML::Node take(const char* key) {
     used_.insert(key);
-    if (!node_) return YAML::Node();
-    return node_[key];
+    if (!present_) return YAML::Node(YAML::NodeType::Undefined);
+    const YAML::Node& map = node_;
+    return map[key];
   }
   std::string name(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
   static std::string text(const YAML::Node& v) {
@@ -94,6 +98,7 @@ class Section {
   }
 
   YAML::Node node_;
+  bool present_;
   std::string path_;
   const std::string& source_;
   std::set<std::string> used_;

@@ -1,30 +1,10 @@
 #include "valerant/map/map_fusion.h"
 
-#define PCL_NO_PRECOMPILE
 #include <octomap/ColorOcTree.h>
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/point_types.h>
 
 #include <cmath>
-
-namespace valerant {
-namespace {
-
-// PCL point carrying what the map needs per point, so VoxelGrid averages it all.
-struct PointMap {
-  PCL_ADD_POINT4D;
-  float r, g, b;  // floats, not packed rgb: VoxelGrid averages fields arithmetically
-  float confidence;
-  float h;
-  PCL_MAKE_ALIGNED_OPERATOR_NEW
-};
-
-}  // namespace
-}  // namespace valerant
-
-POINT_CLOUD_REGISTER_POINT_STRUCT(valerant::PointMap,
-                                  (float, x, x)(float, y, y)(float, z, z)(float, r, r)(float, g, g)(float, b, b)(
-                                      float, confidence, confidence)(float, h, h))
 
 namespace valerant {
 
@@ -54,34 +34,47 @@ size_t MapFusion::pointCount() const {
 }
 
 std::vector<FusedPoint> MapFusion::voxelCloud(double voxel_size) const {
-  pcl::PointCloud<PointMap>::Ptr all(new pcl::PointCloud<PointMap>);
+  pcl::PointCloud<pcl::PointXYZ>::Ptr all(new pcl::PointCloud<pcl::PointXYZ>);
+  std::vector<const FusedPoint*> source;
   all->reserve(pointCount());
   for (const auto& kf : keyframes_) {
     for (const auto& p : kf->points) {
-      PointMap m;
-      m.x = p.position.x(), m.y = p.position.y(), m.z = p.position.z();
-      m.r = p.rgb[0], m.g = p.rgb[1], m.b = p.rgb[2];
-      m.confidence = p.confidence;
-      m.h = p.h;
-      all->push_back(m);
+      all->push_back(pcl::PointXYZ(p.position.x(), p.position.y(), p.position.z()));
+      source.push_back(&p);
     }
   }
   std::vector<FusedPoint> out;
   if (all->empty()) return out;
-  pcl::PointCloud<PointMap> filtered;
-  pcl::VoxelGrid<PointMap> grid;
+  // PCL picks the voxels and their centroids; colour, confidence and height are
+  // averaged per voxel here through its leaf layout (VoxelGrid only averages the
+  // fields of PCL's own point types).
+  pcl::PointCloud<pcl::PointXYZ> centroids;
+  pcl::VoxelGrid<pcl::PointXYZ> grid;
   grid.setInputCloud(all);
   grid.setLeafSize(voxel_size, voxel_size, voxel_size);
-  grid.setDownsampleAllData(true);
-  grid.filter(filtered);
-  out.reserve(filtered.size());
-  for (const auto& m : filtered) {
+  grid.setSaveLeafLayout(true);
+  grid.filter(centroids);
+  std::vector<Eigen::Vector4d> colour_confidence(centroids.size(), Eigen::Vector4d::Zero());
+  std::vector<double> heights(centroids.size(), 0.0);
+  std::vector<int> counts(centroids.size(), 0);
+  for (size_t i = 0; i < all->size(); ++i) {
+    const int v = grid.getCentroidIndex((*all)[i]);
+    if (v < 0) continue;
+    const FusedPoint& p = *source[i];
+    colour_confidence[v] += Eigen::Vector4d(p.rgb[0], p.rgb[1], p.rgb[2], p.confidence);
+    heights[v] += p.h;
+    ++counts[v];
+  }
+  out.reserve(centroids.size());
+  for (size_t v = 0; v < centroids.size(); ++v) {
+    if (counts[v] == 0) continue;
+    const Eigen::Vector4d mean = colour_confidence[v] / counts[v];
     FusedPoint p;
-    p.position = {m.x, m.y, m.z};
-    p.rgb = {static_cast<uint8_t>(std::lround(m.r)), static_cast<uint8_t>(std::lround(m.g)),
-             static_cast<uint8_t>(std::lround(m.b))};
-    p.confidence = m.confidence;
-    p.h = m.h;
+    p.position = centroids[v].getVector3fMap();
+    p.rgb = {static_cast<uint8_t>(std::lround(mean[0])), static_cast<uint8_t>(std::lround(mean[1])),
+             static_cast<uint8_t>(std::lround(mean[2]))};
+    p.confidence = static_cast<float>(mean[3]);
+    p.h = static_cast<float>(heights[v] / counts[v]);
     out.push_back(p);
   }
   return out;

@@ -34,8 +34,12 @@ cv::Mat depthToPng16(const cv::Mat& depth_m) {
 }
 
 void writePng(const std::string& path, const cv::Mat& rgb_or_depth) {
-  cv::Mat out = rgb_or_depth;
-  if (out.type() == CV_8UC3) cv::cvtColor(out, out, cv::COLOR_RGB2BGR);
+  cv::Mat out;  // a new buffer: converting in place would recolour the caller's frame
+  if (rgb_or_depth.type() == CV_8UC3) {
+    cv::cvtColor(rgb_or_depth, out, cv::COLOR_RGB2BGR);
+  } else {
+    out = rgb_or_depth;
+  }
   if (!cv::imwrite(path, out)) throw InputError(path, "cannot write image");
 }
 

@@ -41,9 +41,22 @@ TEST(Bsp, LumpCountsOfOaDm1) {
   EXPECT_EQ(m.lightmaps.size(), 14u);
   EXPECT_GT(m.visibility.num_clusters, 0);
   EXPECT_EQ(m.spawnPoints().size(), 8u);  // 7 info_player_deathmatch + 1 info_player_start
+}
+
+TEST(Bsp, PatchFacesOfOaDm5) {
+  VALERANT_REQUIRE_OPENARENA();
+  Pk3FileSystem fs;
+  fs.mountDirectory(Pk3FileSystem::defaultDataDir());
+  const BspMap m = parseBsp(*fs.read("maps/oa_dm5.bsp"), "oa_dm5");
   size_t patches = 0;
-  for (const auto& f : m.faces) patches += f.type == BspFaceType::kPatch;
-  EXPECT_GT(patches, 0u);
+  for (const auto& f : m.faces) {
+    if (f.type != BspFaceType::kPatch) continue;
+    ++patches;
+    EXPECT_EQ(f.patch_size[0] % 2, 1);  // odd control grids, as tessellation needs
+    EXPECT_EQ(f.num_vertices, f.patch_size[0] * f.patch_size[1]);
+  }
+  EXPECT_EQ(m.faces.size(), 2213u);
+  EXPECT_EQ(patches, 124u);  // face type 2, counted by hand from the face lump
 }
 
 TEST(Bsp, SpawnLeafSeesItself) {

@@ -2,6 +2,7 @@
 // read-back of every export with the library that reads it in the wild.
 #include <gtest/gtest.h>
 #include <octomap/ColorOcTree.h>
+#include <octomap/OcTree.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/point_types.h>
@@ -114,14 +115,14 @@ TEST(MapExports, EveryFormatReadsBack) {
 
   auto tree = map.octree(0.1);
   writeOctreeBt(dir + "/map.bt", *tree, false);
-  octomap::OcTree read(0.1);
-  ASSERT_TRUE(read.readBinary(dir + "/map.bt"));
-  const auto* wall = read.search(3.0, 0.05, 1.05);
+  octomap::OcTree tree_read(0.1);
+  ASSERT_TRUE(tree_read.readBinary(dir + "/map.bt"));
+  const auto* wall = tree_read.search(3.0, 0.05, 1.05);
   ASSERT_NE(wall, nullptr);
-  EXPECT_TRUE(read.isNodeOccupied(wall));
-  const auto* free_space = read.search(1.5, 0.05, 0.55);  // on the ray to the wall
+  EXPECT_TRUE(tree_read.isNodeOccupied(wall));
+  const auto* free_space = tree_read.search(1.5, 0.05, 0.55);  // on the ray to the wall
   ASSERT_NE(free_space, nullptr);
-  EXPECT_FALSE(read.isNodeOccupied(free_space));
+  EXPECT_FALSE(tree_read.isNodeOccupied(free_space));
 
   PolicyConfig policy;
   policy.grid_cells = 16;

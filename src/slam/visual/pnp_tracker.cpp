@@ -7,16 +7,16 @@
 namespace valerant::visual {
 
 std::optional<PnpResult> solvePnp(const std::vector<cv::Point3f>& points, const std::vector<cv::Point2f>& pixels,
-                                  const CameraIntrinsics& k, const Eigen::Isometry3d& guess,
-                                  const PnpParams& params) {
+                                  const CameraIntrinsics& k, const PnpParams& params) {
   if (static_cast<int>(points.size()) < params.min_inliers) return std::nullopt;
   cv::Vec3d rvec, tvec;
-  toRvecTvec(guess, rvec, tvec);
   std::vector<int> inliers;
   const cv::Matx33d kk = cameraMatrix(k);
-  const bool ok = cv::solvePnPRansac(points, pixels, kk, cv::noArray(), rvec, tvec, true, params.iterations,
+  // No extrinsic guess: OpenCV then refines its final pose from the guess rather than
+  // from the RANSAC model, which can fall into a wrong minimum.
+  const bool ok = cv::solvePnPRansac(points, pixels, kk, cv::noArray(), rvec, tvec, false, params.iterations,
                                      static_cast<float>(params.threshold_px), params.confidence, inliers,
-                                     cv::SOLVEPNP_ITERATIVE);
+                                     cv::SOLVEPNP_EPNP);
   if (!ok || static_cast<int>(inliers.size()) < params.min_inliers) return std::nullopt;
   std::vector<cv::Point3f> in_points;
   std::vector<cv::Point2f> in_pixels;

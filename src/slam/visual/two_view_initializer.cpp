@@ -46,10 +46,10 @@ std::optional<TwoViewResult> initializeTwoView(const std::vector<cv::Point2f>& a
     out.points.push_back(points[i]->position);
     parallax.push_back(points[i]->parallax_deg);
   }
-  if (static_cast<int>(out.points.size()) < params.min_points) return std::nullopt;
+  if (static_cast<int>(out.points.size()) < params.min_points) return out;
   std::nth_element(parallax.begin(), parallax.begin() + parallax.size() / 2, parallax.end());
   out.median_parallax_deg = parallax[parallax.size() / 2];
-  if (out.median_parallax_deg < params.min_median_parallax_deg) return std::nullopt;
+  out.ready = out.median_parallax_deg >= params.min_median_parallax_deg;
   return out;
 }
 

@@ -137,9 +137,7 @@ bool VisualSlam::trackMapped(Frame& frame, TrackedFrame& out) {
     which.push_back(i);
   }
   const int n = frame.index;
-  Eigen::Isometry3d guess = framePose(n - 1);
-  if (n >= 2) guess = guess * (framePose(n - 2).inverse() * guess);  // constant velocity
-  const auto pnp = visual::solvePnp(object, image, intrinsics_, guess, params_.pnp);
+  const auto pnp = visual::solvePnp(object, image, intrinsics_, params_.pnp);
   if (!pnp) return false;
 
   // Outlier tracks slipped or were mis-triangulated: drop them.
@@ -192,20 +190,33 @@ bool VisualSlam::trackReference(Frame& frame, TrackedFrame& out) {
     }
   }
   std::vector<cv::Point2f> a, b;
-  for (const Track& t : tracks) {
-    if (!t.referenced) continue;
-    a.push_back(t.reference_px);
-    b.push_back(t.px);
+  std::vector<size_t> which;
+  for (size_t i = 0; i < tracks.size(); ++i) {
+    if (!tracks[i].referenced) continue;
+    a.push_back(tracks[i].reference_px);
+    b.push_back(tracks[i].px);
+    which.push_back(i);
   }
   const auto rotation = visual::estimateRotation(a, b, intrinsics_, params_.two_view.ransac_threshold_px,
                                                  params_.keyframe.min_tracks);
   const bool parallax = !rotation || rotation->median_parallax_px >= params_.two_view.rotation_parallax_px;
-  if (parallax && initializeMap(frame, out)) return true;
-  if (!rotation) return false;
+  std::optional<Eigen::Matrix3d> b_from_a;
+  if (rotation) b_from_a = rotation->b_from_a;
+  if (parallax) {
+    const auto two_view = visual::initializeTwoView(a, b, intrinsics_, params_.two_view);
+    if (two_view && two_view->ready) {
+      initializeMap(frame, out, *two_view, a, b, which);
+      return true;
+    }
+    // Translating, but not enough yet to triangulate: the essential matrix still
+    // knows the rotation better than the rotation-only model.
+    if (two_view) b_from_a = two_view->b_to_a.linear().transpose();
+  }
+  if (!b_from_a) return false;
 
   // bearing_b = R bearing_a  =>  camera b's axes in the map are R_a R^T.
   frame.pose = s.reference.camera_to_map;
-  frame.pose.linear() = s.reference.camera_to_map.linear() * rotation->b_from_a.transpose();
+  frame.pose.linear() = s.reference.camera_to_map.linear() * b_from_a->transpose();
   out.rotation_only = true;
   out.state = s.map.keyframes.empty() ? TrackingState::kInitializing : TrackingState::kTracking;
   PendingFrame pending;
@@ -239,47 +250,38 @@ void VisualSlam::startReference(const Frame& frame, const Eigen::Isometry3d& pos
   s.reference.tracks_at_start = static_cast<int>(s.tracker.tracks().size());
 }
 
-bool VisualSlam::initializeMap(Frame& frame, TrackedFrame& out) {
+void VisualSlam::initializeMap(Frame& frame, TrackedFrame& out, const visual::TwoViewResult& two_view,
+                               const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b,
+                               const std::vector<size_t>& which) {
   State& s = state_;
   auto& tracks = s.tracker.tracks();
-  std::vector<cv::Point2f> a, b;
-  std::vector<size_t> which;
-  for (size_t i = 0; i < tracks.size(); ++i) {
-    if (!tracks[i].referenced) continue;
-    a.push_back(tracks[i].reference_px);
-    b.push_back(tracks[i].px);
-    which.push_back(i);
-  }
-  const auto two_view = visual::initializeTwoView(a, b, intrinsics_, params_.two_view);
-  if (!two_view) return false;
-
   // Scale: from map points seen by both views if there are some, else the last
   // median scene depth (1 for the first map).
   const Eigen::Isometry3d reference = s.reference.camera_to_map;
   const Eigen::Isometry3d map_to_reference = reference.inverse();
   std::vector<double> ratios, depths;
-  for (size_t j = 0; j < two_view->indices.size(); ++j) {
-    const Track& t = tracks[which[two_view->indices[j]]];
-    depths.push_back(two_view->points[j].z());
+  for (size_t j = 0; j < two_view.indices.size(); ++j) {
+    const Track& t = tracks[which[two_view.indices[j]]];
+    depths.push_back(two_view.points[j].z());
     if (t.point >= 0 && s.map.points[t.point])
-      ratios.push_back((map_to_reference * s.map.points[t.point]->position).z() / two_view->points[j].z());
+      ratios.push_back((map_to_reference * s.map.points[t.point]->position).z() / two_view.points[j].z());
   }
   const double scale = ratios.size() >= 5 ? quantile(ratios, 0.5) : s.median_depth / quantile(depths, 0.5);
-  Eigen::Isometry3d b_to_a = two_view->b_to_a;
+  Eigen::Isometry3d b_to_a = two_view.b_to_a;
   b_to_a.translation() *= scale;
   frame.pose = reference * b_to_a;
 
   const int ka = static_cast<int>(s.map.keyframes.size()), kb = ka + 1;
   auto images_a = addKeyframe(s.reference.rgb, s.reference.sweep, s.reference.frame, reference);
   frame.new_keyframe = addKeyframe(frame.rgb, frame.sweep, frame.index, frame.pose);
-  for (size_t j = 0; j < two_view->indices.size(); ++j) {
-    const size_t k = two_view->indices[j];
+  for (size_t j = 0; j < two_view.indices.size(); ++j) {
+    const size_t k = two_view.indices[j];
     Track& t = tracks[which[k]];
     const std::vector<Observation> seen = {{ka, {a[k].x, a[k].y}}, {kb, {b[k].x, b[k].y}}};
     if (t.point >= 0 && s.map.points[t.point]) {
       for (const Observation& o : seen) observe(t.point, o);
     } else {
-      t.point = addPoint(reference * (scale * two_view->points[j]), s.reference.rgb, a[k], seen);
+      t.point = addPoint(reference * (scale * two_view.points[j]), s.reference.rgb, a[k], seen);
     }
     images_a->points.push_back(t.point);
     frame.new_keyframe->points.push_back(t.point);
@@ -313,7 +315,6 @@ bool VisualSlam::initializeMap(Frame& frame, TrackedFrame& out) {
   out.state = TrackingState::kTracking;
   out.keyframe = true;
   out.rotation_only = false;
-  return true;
 }
 
 void VisualSlam::resectPending(int reference_keyframe) {
@@ -333,7 +334,7 @@ void VisualSlam::resectPending(int reference_keyframe) {
       object.emplace_back(q.x(), q.y(), q.z());
       image.push_back(px);
     }
-    const auto pnp = visual::solvePnp(object, image, intrinsics_, framePose(p.frame), params_.pnp);
+    const auto pnp = visual::solvePnp(object, image, intrinsics_, params_.pnp);
     if (pnp) s.frames[p.frame] = FramePose{reference_keyframe, anchor.inverse() * pnp->camera_to_map};
   }
   s.pending.clear();

@@ -1,6 +1,6 @@
 #pragma once
 // Pinhole helpers shared by the visual SLAM parts: OpenCV camera matrix, projection,
-// bearings, OpenCV rvec/tvec <-> pose, and intrinsics of a downsampled image.
+// bearings, OpenCV rvec/tvec -> pose, and intrinsics of a downsampled image.
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
@@ -40,16 +40,7 @@ inline CameraIntrinsics downsampled(const CameraIntrinsics& k, int factor) {
   return d;
 }
 
-// OpenCV's (rvec, tvec) map world points into the camera: the inverse of camera_to_map.
-inline void toRvecTvec(const Eigen::Isometry3d& camera_to_map, cv::Vec3d& rvec, cv::Vec3d& tvec) {
-  const Eigen::Isometry3d map_to_camera = camera_to_map.inverse();
-  const Eigen::AngleAxisd aa(map_to_camera.linear());
-  const Eigen::Vector3d r = aa.axis() * aa.angle();
-  rvec = cv::Vec3d(r.x(), r.y(), r.z());
-  const Eigen::Vector3d& t = map_to_camera.translation();
-  tvec = cv::Vec3d(t.x(), t.y(), t.z());
-}
-
+// OpenCV's (rvec, tvec) map world points into the camera: camera_to_map is the inverse.
 inline Eigen::Isometry3d fromRvecTvec(const cv::Vec3d& rvec, const cv::Vec3d& tvec) {
   const Eigen::Vector3d r(rvec[0], rvec[1], rvec[2]);
   Eigen::Isometry3d map_to_camera = Eigen::Isometry3d::Identity();

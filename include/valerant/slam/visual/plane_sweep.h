@@ -1,7 +1,7 @@
 #pragma once
 // Dense depth of one frame by multi-view plane sweep: fronto-parallel planes of the
 // reference camera, uniform in inverse depth from infinity to `near`, each inducing a
-// homography that warps every source keyframe onto the reference (cv::warpPerspective).
+// homography that warps every source keyframe onto the reference.
 // The cost of a plane is the truncated absolute grey difference, averaged over the
 // sources and a square window; each pixel takes the cheapest plane, refined to sub-plane
 // precision by a parabola through its neighbours.

@@ -1,6 +1,6 @@
 #pragma once
-// Camera pose from 2D-3D correspondences against the local map: RANSAC PnP seeded by
-// the motion-model prediction, then Levenberg-Marquardt refinement on the inliers.
+// Camera pose from 2D-3D correspondences against the local map: RANSAC over EPnP
+// minimal sets, then Levenberg-Marquardt refinement on the inliers.
 #include <Eigen/Geometry>
 #include <optional>
 #include <opencv2/core.hpp>
@@ -19,7 +19,6 @@ struct PnpResult {
 // Nothing when RANSAC fails or fewer than params.min_inliers agree. RANSAC draws from
 // OpenCV's per-thread RNG: the caller seeds it for reproducible branches.
 std::optional<PnpResult> solvePnp(const std::vector<cv::Point3f>& points, const std::vector<cv::Point2f>& pixels,
-                                  const CameraIntrinsics& k, const Eigen::Isometry3d& guess,
-                                  const PnpParams& params);
+                                  const CameraIntrinsics& k, const PnpParams& params);
 
 }  // namespace valerant::visual

@@ -29,6 +29,7 @@
 #include "valerant/slam/slam.h"
 #include "valerant/slam/visual/feature_tracker.h"
 #include "valerant/slam/visual/slam_map.h"
+#include "valerant/slam/visual/two_view_initializer.h"
 #include "valerant/slam/visual/visual_slam_params.h"
 
 namespace valerant {
@@ -93,7 +94,9 @@ class VisualSlam : public Slam {
   bool trackMapped(Frame& frame, TrackedFrame& out);
   bool trackReference(Frame& frame, TrackedFrame& out);
   void startReference(const Frame& frame, const Eigen::Isometry3d& pose, bool from_previous);
-  bool initializeMap(Frame& frame, TrackedFrame& out);
+  void initializeMap(Frame& frame, TrackedFrame& out, const visual::TwoViewResult& two_view,
+                     const std::vector<cv::Point2f>& a, const std::vector<cv::Point2f>& b,
+                     const std::vector<size_t>& which);
   void resectPending(int reference_keyframe);
   void makeKeyframe(Frame& frame);
   void bundleAdjust(Frame& frame);
