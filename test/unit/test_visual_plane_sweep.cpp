@@ -14,12 +14,10 @@ using namespace valerant::visual;
 
 namespace {
 
-cv::Mat sweepImage(const cv::Mat& rgb, const CameraIntrinsics& k) {
-  cv::Mat grey, small, out;
+cv::Mat prepared(const cv::Mat& rgb, const PlaneSweepParams& params) {
+  cv::Mat grey;
   cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
-  cv::resize(grey, small, cv::Size(k.width, k.height), 0, 0, cv::INTER_AREA);
-  small.convertTo(out, CV_32F);
-  return out;
+  return sweepImage(grey, params);
 }
 
 struct SweepCase {
@@ -38,10 +36,10 @@ SweepCase sweepRoom() {
   std::vector<SweepView> sources;
   for (const Eigen::Vector3d& c : {Eigen::Vector3d(-0.3, 0, -0.4), Eigen::Vector3d(0.25, 0.05, -0.2)}) {
     const Eigen::Isometry3d pose = test::BoxRoom::pose(c, 3);
-    sources.push_back({sweepImage(room.render(k, pose).rgb, ks), pose});
+    sources.push_back({prepared(room.render(k, pose).rgb, params), pose});
   }
   SweepCase out;
-  out.depth = planeSweep({sweepImage(view.rgb, ks), ref}, sources, ks, 0.8, params);
+  out.depth = planeSweep({prepared(view.rgb, params), ref}, sources, ks, 0.8, params);
   cv::resize(view.depth, out.truth, cv::Size(ks.width, ks.height), 0, 0, cv::INTER_AREA);
   return out;
 }

@@ -53,18 +53,53 @@ void addWarpedDifference(const cv::Mat& ref, const cv::Mat& src, const Eigen::Ma
   }
 }
 
+// Largest disparity, over a few border pixels and the sources, between the planes at
+// infinity and at 1 / rho_max.
+double maxDisparity(const Eigen::Matrix3d& kk, const std::vector<Eigen::Isometry3d>& ref_to_src, double rho_max,
+                    const cv::Size& size) {
+  double out = 0;
+  const double w = size.width - 1, h = size.height - 1;
+  for (const Eigen::Isometry3d& t : ref_to_src) {
+    const Eigen::Matrix3d far = planeHomography(kk, t, 0), near = planeHomography(kk, t, rho_max);
+    for (const Eigen::Vector3d& x : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(w, 0, 1), Eigen::Vector3d(0, h, 1),
+                                     Eigen::Vector3d(w, h, 1), Eigen::Vector3d(w / 2, 0, 1), Eigen::Vector3d(w / 2, h, 1),
+                                     Eigen::Vector3d(0, h / 2, 1), Eigen::Vector3d(w, h / 2, 1)}) {
+      const Eigen::Vector3d a = far * x, b = near * x;
+      if (a.z() <= 0 || b.z() <= 0) continue;
+      out = std::max(out, (a.hnormalized() - b.hnormalized()).norm());
+    }
+  }
+  return out;
+}
+
 }  // namespace
+
+cv::Mat sweepImage(const cv::Mat& grey, const PlaneSweepParams& params) {
+  cv::Mat small, mean, mean_sq, out;
+  cv::resize(grey, small, cv::Size(grey.cols / params.downsample, grey.rows / params.downsample), 0, 0,
+             cv::INTER_AREA);
+  small.convertTo(small, CV_32F);
+  const cv::Size window(params.normalise_window_px, params.normalise_window_px);
+  cv::boxFilter(small, mean, CV_32F, window, cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+  cv::boxFilter(small.mul(small), mean_sq, CV_32F, window, cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+  cv::Mat contrast;
+  cv::sqrt(cv::max(mean_sq - mean.mul(mean), 0.0), contrast);
+  cv::divide(small - mean, contrast + params.contrast_floor, out);
+  return out;
+}
 
 SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& sources,
                       const CameraIntrinsics& k, double near, const PlaneSweepParams& params) {
   if (sources.empty()) throw InputError("plane sweep", "needs at least one source view");
   if (!(near > 0)) throw InputError("plane sweep", "nearest depth must be positive");
   const cv::Size size = reference.image.size();
-  const int n = params.planes;
-  const double rho_step = 1.0 / near / (n - 1);
   const Eigen::Matrix3d kk = eigenCameraMatrix(k);
   std::vector<Eigen::Isometry3d> ref_to_src;
   for (const SweepView& s : sources) ref_to_src.push_back(s.camera_to_map.inverse() * reference.camera_to_map);
+  const double rho_max = 1.0 / near;
+  const int n = std::clamp(static_cast<int>(std::ceil(maxDisparity(kk, ref_to_src, rho_max, size) / params.plane_step_px)),
+                           params.min_planes, params.max_planes);
+  const double rho_step = rho_max / (n - 1);
 
   const cv::Size window(params.window_px, params.window_px);
   const double per_view = 1.0 / static_cast<double>(sources.size());

@@ -52,8 +52,10 @@ VisualSlam::VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& con
       state_(params.tracker) {
   if (intrinsics.width < 16 || intrinsics.height < 16 || !(intrinsics.fx > 0) || !(intrinsics.fy > 0))
     throw InputError("visual SLAM intrinsics", "need a positive focal length and an image of at least 16x16");
-  if (params.sweep.downsample < 1 || params.sweep.planes < 4 || params.sweep.sources < 1)
-    throw InputError("visual SLAM plane sweep parameters", "need downsample >= 1, planes >= 4, sources >= 1");
+  if (params.sweep.downsample < 1 || params.sweep.min_planes < 4 || params.sweep.max_planes < params.sweep.min_planes ||
+      params.sweep.sources < 1)
+    throw InputError("visual SLAM plane sweep parameters",
+                     "need downsample >= 1, 4 <= min_planes <= max_planes, sources >= 1");
 }
 
 TrackedFrame VisualSlam::track(const SlamInput& input) {
@@ -65,9 +67,7 @@ TrackedFrame VisualSlam::track(const SlamInput& input) {
   frame.index = static_cast<int>(s.frames.size());
   frame.rgb = input.rgb.clone();  // kept by keyframes: must not alias the caller's buffer
   cv::cvtColor(frame.rgb, frame.gray, cv::COLOR_RGB2GRAY);
-  cv::Mat small;
-  cv::resize(frame.gray, small, cv::Size(sweep_intrinsics_.width, sweep_intrinsics_.height), 0, 0, cv::INTER_AREA);
-  small.convertTo(frame.sweep, CV_32F);
+  frame.sweep = visual::sweepImage(frame.gray, params_.sweep);
   seedRng(params_.seed, frame.index);
 
   s.tracker.track(frame.gray);

@@ -54,15 +54,19 @@ struct BundleAdjustmentParams {
 
 struct PlaneSweepParams {
   int downsample = 2;            // sweep at 1/2 resolution (160x120): the speed budget
-  int planes = 64;               // inverse-depth hypotheses between 0 and 1/near
+  int normalise_window_px = 7;   // local mean / contrast window at sweep resolution
+  double contrast_floor = 2.0;   // 8-bit levels added to the local contrast: flat areas stay flat
+  int max_planes = 64;           // inverse-depth hypotheses between 0 and 1/near ...
+  int min_planes = 16;
+  double plane_step_px = 1.0;    // ... about this much border disparity apart
   int sources = 2;               // nearby keyframes compared with each frame
   int window_px = 5;             // SAD window at sweep resolution
-  double truncation = 24.0;      // per-pixel |difference| cap (8-bit levels): occlusions, borders
-  double noise_level = 2.0;      // SAD floor (8-bit levels): rendering / resampling noise
+  double truncation = 1.5;       // per-pixel |difference| cap (local contrasts): occlusions, borders
+  double noise_level = 0.1;      // SAD floor (local contrasts): resampling noise
   double min_baseline_ratio = 0.04;   // source baseline / median scene depth
   double max_view_angle_deg = 50;     // source optical axis within this angle of the frame's
   double near_fraction = 0.4;         // nearest plane at this fraction of the 2nd-percentile point depth
-  double confidence_gain = 6.0;       // see PlaneSweep's confidence mapping
+  double confidence_gain = 6.0;       // see plane_sweep.h for the confidence mapping
   double max_confidence = 20.0;
 };
 
