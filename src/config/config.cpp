@@ -139,6 +139,7 @@ void readRollout(Section s, RolloutConfig& r) {
 }
 
 void readPolicy(Section s, PolicyConfig& p) {
+  s.choice("kind", p.kind, {"valerant", "random", "forward", "frontier"});
   s.number("lambda_cov", p.lambda_cov, 0.0, 1e6);
   s.number("lambda_prog", p.lambda_prog, 0.0, 1e6);
   s.number("frontier_weight", p.frontier_weight, 0.0, 1e6);

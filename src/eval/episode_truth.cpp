@@ -1,5 +1,6 @@
 #include "valerant/eval/episode_truth.h"
 
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <map>
@@ -10,8 +11,6 @@ namespace {
 
 constexpr double kUnitsPerMetre = 32.0;
 constexpr double kStepHeightUnits = 18.0;  // Quake III STEPSIZE
-// Below this spread (metres) a Sim(3) fit of the trajectory is meaningless.
-constexpr double kMinAlignmentSpreadMetres = 0.5;
 
 using Cell2 = std::pair<int, int>;
 
@@ -20,22 +19,6 @@ Cell2 metreCell(double x_units, double y_units) {
 }
 
 }  // namespace
-
-bool alignTrajectory(const std::vector<Eigen::Vector3d>& map_centres, const std::vector<Eigen::Vector3d>& truth_centres,
-                     Eigen::Matrix4d& map_to_world) {
-  const size_t n = std::min(map_centres.size(), truth_centres.size());
-  if (n < 3) return false;
-  Eigen::Matrix3Xd src(3, n), dst(3, n);
-  for (size_t i = 0; i < n; ++i) {
-    src.col(i) = map_centres[i];
-    dst.col(i) = truth_centres[i];
-  }
-  const Eigen::Vector3d mean = dst.rowwise().mean();
-  const double spread = std::sqrt((dst.colwise() - mean).squaredNorm() / n);
-  if (spread < kMinAlignmentSpreadMetres) return false;
-  map_to_world = Eigen::umeyama(src, dst, true);
-  return map_to_world.allFinite();
-}
 
 EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::ReachableFloor& reachable) {
   EpisodeTruth t;
@@ -67,38 +50,51 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   }
   t.reachable_m2 = static_cast<double>(reachable_cells.size());
 
-  std::vector<Eigen::Vector3d> map_centres, truth_centres;
-  const auto& trajectory = episode.trajectory();
-  for (size_t i = 0; i < std::min(trajectory.size(), truth.size()); ++i) {
-    map_centres.push_back(trajectory[i].translation());
-    truth_centres.push_back(truth[i].camera_to_world.translation() / kUnitsPerMetre);
+  const size_t n = std::min(episode.trajectory().size(), truth.size());
+  if (n == 0) return t;
+  std::vector<Eigen::Isometry3d> truth_metres;
+  for (size_t i = 0; i < n; ++i) {
+    Eigen::Isometry3d pose = truth[i].camera_to_world;
+    pose.translation() /= kUnitsPerMetre;
+    truth_metres.push_back(pose);
   }
-  Eigen::Matrix4d map_to_world;
-  t.aligned = alignTrajectory(map_centres, truth_centres, map_to_world);
+  const TrajectoryError ate = trajectoryError(
+      std::vector<Eigen::Isometry3d>(episode.trajectory().begin(), episode.trajectory().begin() + n), truth_metres);
+  t.aligned = ate.aligned;
   if (!t.aligned) return t;
-  t.alignment_scale = map_to_world.block<3, 3>(0, 0).col(0).norm();
-  double residual = 0;
-  for (size_t i = 0; i < map_centres.size(); ++i)
-    residual += ((map_to_world * map_centres[i].homogeneous()).head<3>() - truth_centres[i]).squaredNorm();
-  t.alignment_rmse_m = std::sqrt(residual / map_centres.size());
+  t.map_to_world_metres = ate.alignment;
+  t.alignment_scale = ate.alignment.scale;
+  t.alignment_rmse_m = ate.ate_rmse;
+  t.ate_percent = ate.ate_percent;
 
-  std::set<std::pair<Cell2, int>> observed;
+  // Cells each keyframe observes, then their union over growing prefixes of the map.
   const double band = episode.config().collision.height_low;
-  for (const auto& kf : episode.map().keyframes()) {
-    for (const auto& p : kf->points) {
+  const auto& keyframes = episode.map().keyframes();
+  std::vector<std::set<std::pair<Cell2, int>>> seen_by(keyframes.size());
+  for (size_t k = 0; k < keyframes.size(); ++k) {
+    for (const auto& p : keyframes[k]->points) {
       if (std::abs(p.h) >= band) continue;
-      const Eigen::Vector3d world = (map_to_world * p.position.cast<double>().homogeneous()).head<3>() * kUnitsPerMetre;
+      const Eigen::Vector3d world = ate.alignment.apply(p.position.cast<double>()) * kUnitsPerMetre;
       const Cell2 key = metreCell(world.x(), world.y());
       auto it = reachable_heights.find(key);
       if (it == reachable_heights.end()) continue;
       for (float z : it->second) {
         if (std::abs(world.z() - z) <= kStepHeightUnits / 2) {
-          observed.insert({key, static_cast<int>(std::floor(z / (2 * kStepHeightUnits)))});
+          seen_by[k].insert({key, static_cast<int>(std::floor(z / (2 * kStepHeightUnits)))});
           break;
         }
       }
     }
   }
+  std::set<std::pair<Cell2, int>> observed;
+  size_t merged = 0;
+  auto percent = [&] { return t.reachable_m2 > 0 ? 100.0 * observed.size() / t.reachable_m2 : 0.0; };
+  for (const auto& step : episode.history()) {
+    for (; merged < std::min(step.map_keyframes, keyframes.size()); ++merged)
+      observed.insert(seen_by[merged].begin(), seen_by[merged].end());
+    t.observed_percent_by_step.push_back(percent());
+  }
+  for (; merged < keyframes.size(); ++merged) observed.insert(seen_by[merged].begin(), seen_by[merged].end());
   t.observed_reachable_m2 = static_cast<double>(observed.size());
   t.observed_reachable_percent = t.reachable_m2 > 0 ? 100.0 * t.observed_reachable_m2 / t.reachable_m2 : 0;
   return t;

@@ -101,7 +101,7 @@ StepRecord Episode::step() {
     record.seconds += outcomes.back().seconds;
   }
   const auto policy_start = std::chrono::steady_clock::now();
-  record.chosen = selectBranch(verdicts, config_.policy);
+  record.chosen = selectBranch(verdicts, config_.policy, (uint64_t{config_.world.seed} << 32) + record.step);
   record.seconds.policy += secondsSince(policy_start);
   for (size_t i = 0; i < outcomes.size(); ++i)
     record.candidates.push_back({verdicts[i], outcomes[i].centres, outcomes[i].rollout.truth});
@@ -123,6 +123,7 @@ StepRecord Episode::step() {
   }
   release(rewinder_.recordStep(record.checkpoint, start_cell, record.chosen >= 0, rotation_only, cells));
   if (const auto decision = rewinder_.check()) rewind(*decision, record);
+  record.map_keyframes = map_.marker();
   record.wall_seconds = secondsSince(step_start);
   history_.push_back(record);
   return record;

@@ -2,6 +2,7 @@
 //
 //   valerant_explore --map NAME [--spawn I] [--slam visual|oracle] [--budget N]
 //                    [--no-rf] [--no-col-pc] [--no-col-depth] [--no-dp] [--seed S]
+//                    [--policy valerant|random|forward|frontier]
 //                    [--config FILE] [--force] --out DIR
 //
 // Writes map.ply, map.pcd, map.bt, grid.pgm + grid.yaml, trajectory.txt (TUM, SLAM
@@ -19,6 +20,7 @@
 #include "cli_args.h"
 #include "valerant/common/tum_trajectory.h"
 #include "valerant/eval/episode_truth.h"
+#include "valerant/eval/map_accuracy.h"
 #include "valerant/explore/episode.h"
 #include "valerant/explore/episode_json.h"
 #include "valerant/explore/topdown_image.h"
@@ -34,7 +36,8 @@ namespace {
 std::atomic<bool> g_stop{false};
 void onSignal(int) { g_stop = true; }
 
-constexpr int kTopdownPixelsPerCell = 6;
+constexpr float kSurfaceSamplesPerSquareMetre = 50;  // 14 cm spacing: accuracy to ~7 cm
+constexpr int kTopdownPixelsPerCell = 16;  // 16 px per metre-sized cell: a 40 m map is ~700 px
 
 void writeOutputs(const Episode& episode, const quake3::Quake3World& world, const std::string& out, bool overwrite,
                   nlohmann::json& report) {
@@ -66,6 +69,12 @@ void writeOutputs(const Episode& episode, const quake3::Quake3World& world, cons
   const auto spawn = world.spawnPoints()[config.world.spawn];
   const auto reachable = quake3::floodFillReachableFloor(*world.map().collision, spawn.origin);
   const EpisodeTruth truth = evaluateEpisodeTruth(episode, reachable);
+  std::vector<Eigen::Vector3d> map_metres;
+  if (truth.aligned)
+    for (const auto& p : cloud) map_metres.push_back(truth.map_to_world_metres.apply(p.position.cast<double>()));
+  const MapAccuracy accuracy =
+      mapAccuracy(map_metres, quake3::sampleSurfaces(world.map().geometry, kSurfaceSamplesPerSquareMetre, config.world.seed),
+                  episode.truth(), world.intrinsics());
   StageSeconds total;
   double wall = 0;
   for (const auto& s : episode.history()) {
@@ -92,7 +101,12 @@ void writeOutputs(const Episode& episode, const quake3::Quake3World& world, cons
                             {"observed_reachable_m2", truth.observed_reachable_m2},
                             {"observed_reachable_percent", truth.observed_reachable_percent},
                             {"aligned", truth.aligned},
-                            {"alignment_rmse_m", truth.alignment_rmse_m},
+                            {"ate_rmse_m", truth.alignment_rmse_m},
+                            {"ate_percent", truth.ate_percent},
+                            {"observed_percent_by_step", truth.observed_percent_by_step},
+                            {"accuracy_median_m", accuracy.median_m},
+                            {"accuracy_p90_m", accuracy.p90_m},
+                            {"completeness_percent", accuracy.completeness_percent},
                             {"verdicts", truth.verdicts},
                             {"truly_colliding", truth.truly_colliding},
                             {"predicted_colliding", truth.predicted_colliding},
@@ -105,13 +119,17 @@ void writeOutputs(const Episode& episode, const quake3::Quake3World& world, cons
 
 int main(int argc, char** argv) {
   try {
-    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--slam", "--budget", "--seed", "--config", "--out"},
+    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--slam", "--budget", "--seed", "--config", "--out", "--policy"},
                         {"--no-rf", "--no-col-pc", "--no-col-depth", "--no-dp", "--force"});
     Config config = loadConfig(args.get("--config", defaultConfigPath()));
     config.world.map = args.get("--map", config.world.map);
     config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
     config.world.seed = static_cast<uint32_t>(args.integer("--seed", config.world.seed));
     config.slam.backend = args.get("--slam", config.slam.backend);
+    config.policy.kind = args.get("--policy", config.policy.kind);
+    if (config.policy.kind != "valerant" && config.policy.kind != "random" && config.policy.kind != "forward" &&
+        config.policy.kind != "frontier")
+      throw InputError("--policy " + config.policy.kind, "unknown (known: valerant, random, forward, frontier)");
     config.policy.budget_steps = static_cast<int>(args.integer("--budget", config.policy.budget_steps));
     if (config.policy.budget_steps < 1) throw InputError("--budget", "must be >= 1");
     if (args.has("--no-rf")) config.floor.enabled = false;
@@ -141,7 +159,7 @@ int main(int argc, char** argv) {
         &g_stop);
 
     nlohmann::json report = {{"tool", "valerant_explore"}, {"map", config.world.map}, {"spawn", config.world.spawn},
-                             {"slam", config.slam.backend}, {"seed", config.world.seed},
+                             {"slam", config.slam.backend}, {"policy", config.policy.kind}, {"seed", config.world.seed},
                              {"budget", config.policy.budget_steps}, {"interrupted", g_stop.load()},
                              {"rf", config.floor.enabled}, {"col_pc", config.collision.pointcloud_enabled},
                              {"col_depth", config.collision.depth_enabled}, {"dp", config.dead_pocket.enabled}};

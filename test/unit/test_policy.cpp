@@ -7,6 +7,8 @@
 #include "valerant/explore/policy.h"
 #include "valerant/explore/rewind_controller.h"
 
+#include <set>
+
 using namespace valerant;
 
 namespace {
@@ -159,4 +161,28 @@ TEST(RewindController, DisabledNeverRewinds) {
   r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}});
   for (uint64_t id = 2; id < 6; ++id) r.recordStep(id, {65, 64}, true, true, {{65, 64}});
   EXPECT_FALSE(r.check());
+}
+
+TEST(Policy, BaselinesChooseAmongTheAdmissible) {
+  std::vector<BranchVerdict> v(5);
+  const char* names[] = {"uw", "jw", "lw", "jq", "lq"};
+  for (int i = 0; i < 5; ++i) v[i].candidate = names[i];
+  v[3].rotation_only = v[4].rotation_only = true;
+  v[1].c_front = 0.5, v[2].c_front = 0.5, v[2].coverage = 1.0;  // lw: same C_front, more coverage
+  PolicyConfig config;
+  config.kind = "forward";
+  EXPECT_EQ(selectBranch(v, config), 0);  // uw while it is admissible
+  v[0].collision_pc = true;
+  EXPECT_EQ(selectBranch(v, config), 3);  // then the first rotation
+  config.kind = "frontier";
+  EXPECT_EQ(selectBranch(v, config), 2);
+  config.kind = "random";
+  std::set<int> seen;
+  for (uint64_t seed = 0; seed < 64; ++seed) {
+    const int c = selectBranch(v, config, seed);
+    EXPECT_NE(c, 0);  // never the colliding one
+    EXPECT_EQ(c, selectBranch(v, config, seed));  // the same seed, the same choice
+    seen.insert(c);
+  }
+  EXPECT_EQ(seen.size(), 4u);
 }

@@ -44,6 +44,7 @@ struct RolloutConfig {
 };
 
 struct PolicyConfig {
+  std::string kind = "valerant";  // valerant (eq. 2) | random | forward | frontier (baselines)
   double lambda_cov = 1.0;
   double lambda_prog = 5.0;
   double frontier_weight = 0.5;  // C = C_new + 0.5 C_front

@@ -8,7 +8,9 @@
 // (|h| < eta_low) then mark 1 m cells. A reachable 1 m cell counts as observed when a
 // floor point falls in it within half a step height of a reachable floor height there.
 #include <Eigen/Geometry>
+#include <vector>
 
+#include "valerant/eval/trajectory_metrics.h"
 #include "valerant/explore/episode.h"
 #include "valerant/world/quake3/reachable_floor.h"
 
@@ -20,20 +22,20 @@ struct EpisodeTruth {
   double reachable_m2 = 0;
   double observed_reachable_m2 = 0;
   double observed_reachable_percent = 0;
+  // observed_reachable_percent of the final map's keyframes up to each step (one per
+  // history entry; a rewound step's value counts the keyframes that replaced its own).
+  std::vector<double> observed_percent_by_step;
   bool aligned = false;          // false: the trajectory was too short to fit a Sim(3)
+  Sim3 map_to_world_metres;      // the fitted alignment (identity when not aligned)
   double alignment_scale = 0;    // metres per map unit
-  double alignment_rmse_m = 0;   // residual of the camera centres after alignment
+  double alignment_rmse_m = 0;   // residual of the camera centres after alignment (ATE)
+  double ate_percent = 0;        // ATE as a share of the path length
   int verdicts = 0;              // candidate evaluations with ground truth
   int truly_colliding = 0;       // candidates whose frames enter solid
   int predicted_colliding = 0;   // candidates rejected by a collision test
   int false_rejections = 0;      // predicted but not truly colliding
   int missed_collisions = 0;     // truly colliding but not predicted
 };
-
-// Sim(3) taking map-frame points to the BSP frame in metres, from matched centres.
-// Returns false when the centres span too little to fix rotation and scale.
-bool alignTrajectory(const std::vector<Eigen::Vector3d>& map_centres, const std::vector<Eigen::Vector3d>& truth_centres,
-                     Eigen::Matrix4d& map_to_world);
 
 EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::ReachableFloor& reachable);
 

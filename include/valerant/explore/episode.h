@@ -1,10 +1,13 @@
 #pragma once
 // The exploration loop (paper section 3.2, DESIGN.md section 1), without ROS. Each
-// step: a synchronised checkpoint of world and SLAM; five candidate rollouts from the
-// committed state, each reconstructed and judged in its own thread; the argmax of
-// eq. 2 over admissible candidates is committed (its rollout and SLAM branch are
-// reused: both backends are deterministic) and fused into the map; a dead pocket
-// rewinds to an earlier checkpoint and grows the failed-region memory (eq. 8).
+// step: a synchronised checkpoint of world and branch pipeline (SLAM, floor); five
+// candidate rollouts from the committed state, each reconstructed and judged by the
+// pipeline; coverage and progress on the episode's grid; the argmax of eq. 2 over
+// admissible candidates (asked of a BranchSelector) is committed (its rollout and
+// SLAM branch are reused: both backends are deterministic) and fused into the map; a
+// dead pocket rewinds to an earlier checkpoint and grows the failed-region memory
+// (eq. 8). The same step code runs with in-process components (valerant_explore) and
+// with the ROS graph's proxies (the explorer node): one code path, the same decisions.
 #include <atomic>
 #include <functional>
 #include <map>
@@ -14,10 +17,10 @@
 #include <vector>
 
 #include "valerant/config/config.h"
-#include "valerant/explore/branch_evaluator.h"
+#include "valerant/explore/branch_pipeline.h"
+#include "valerant/explore/branch_selector.h"
 #include "valerant/explore/coverage_grid.h"
 #include "valerant/explore/failed_region_memory.h"
-#include "valerant/explore/floor_estimator.h"
 #include "valerant/explore/rewind_controller.h"
 #include "valerant/map/map_fusion.h"
 #include "valerant/slam/slam.h"
@@ -40,14 +43,18 @@ struct StepRecord {
   bool rewind = false;
   uint64_t rewind_to = 0;
   int discarded_steps = 0;
+  size_t map_keyframes = 0;    // keyframes in the global map after the step
   StageSeconds seconds;
   double wall_seconds = 0;
 };
 
 class Episode {
  public:
-  // Feeds the world's context (the single starting screenshot) to `slam`.
+  // In this process: feeds the world's context (the single starting screenshot) to
+  // `slam` and decides with selectBranch().
   Episode(WorldModel& world, std::unique_ptr<Slam> slam, const Config& config);
+  // With any pipeline and selector (e.g. the ROS graph's proxies); both outlive it.
+  Episode(WorldModel& world, BranchPipeline& pipeline, BranchSelector& selector, const Config& config);
 
   StepRecord step();
   bool finished() const;
@@ -62,28 +69,36 @@ class Episode {
   const std::vector<FrameTruth>& truth() const { return truth_; }  // ground truth of committed frames
   const std::vector<StepRecord>& history() const { return history_; }
   double anchorEyeHeight() const { return anchor_kappa_; }  // kappa_0, map units
+  // What the coverage grid is anchored on: the start floor and the start heading.
+  const FloorPlane& gridAnchor() const { return anchor_floor_; }
+  const Eigen::Vector3d& gridHeading() const { return anchor_heading_; }
   const Config& config() const { return config_; }
 
  private:
   struct Saved {
-    std::shared_ptr<const SlamState> slam;
-    FloorEstimator floor;
     CoverageGrid grid;
     size_t map_marker, trajectory_size;
     int committed_steps;
   };
-  void anchorGrid();
-  void commit(BranchOutcome& outcome);
+  // Uses `pipeline` and `selector` when given, else the owned ones.
+  Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline, std::unique_ptr<BranchSelector> own_selector,
+          BranchPipeline* pipeline, BranchSelector* selector, const Config& config);
+  void anchorGrid(bool reliable_floor);
+  void commit(const BranchResult& chosen, const std::vector<Eigen::Vector3d>& centres);
   void rewind(const RewindDecision& decision, StepRecord& record);
   void release(const std::vector<uint64_t>& checkpoints);
 
   WorldModel& world_;
-  std::unique_ptr<Slam> slam_;
+  std::unique_ptr<BranchPipeline> own_pipeline_;  // set by the in-process constructor
+  std::unique_ptr<BranchSelector> own_selector_;
+  BranchPipeline& pipeline_;
+  BranchSelector& selector_;
   Config config_;
   double d_fwd_normalised_;
-  FloorEstimator floor_;
   std::optional<CoverageGrid> grid_;
   double anchor_kappa_ = 1;
+  FloorPlane anchor_floor_;
+  Eigen::Vector3d anchor_heading_ = Eigen::Vector3d::UnitX();
   bool anchored_on_reliable_floor_ = false;
   MapFusion map_;
   FailedRegionMemory failed_;

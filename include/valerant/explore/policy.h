@@ -5,6 +5,12 @@
 // not lose track and it does not enter the failed-region memory. Ties go to the
 // candidate listed first (the paper's order uw, jw, lw, jq, lq), so a run is
 // deterministic. No admissible candidate: a stall (returns -1).
+//
+// Baselines (policy.kind) choose among the same admissible candidates:
+//   random   - uniformly, from a generator seeded by (seed, step);
+//   forward  - uw whenever admissible, else the first admissible rotation, else any;
+//   frontier - the largest C_front (closest to the frontier), ties by coverage.
+#include <cstdint>
 #include <vector>
 
 #include "valerant/config/config.h"
@@ -13,6 +19,7 @@
 namespace valerant {
 
 // Fills score, admissible and reason of every verdict; returns the chosen index or -1.
-int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& config);
+// `step_seed` only feeds the random baseline.
+int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& config, uint64_t step_seed = 0);
 
 }  // namespace valerant

@@ -1,0 +1,40 @@
+#pragma once
+// The branch pipeline in this process (what valerant_explore runs): one SLAM and one
+// floor estimator hold the committed state; each candidate is evaluated on copies of
+// them in a thread of its own; committing adopts the winner's copies (both backends
+// are deterministic, so that equals replaying the winner).
+#include <memory>
+
+#include "valerant/config/config.h"
+#include "valerant/explore/branch_pipeline.h"
+#include "valerant/explore/checkpoint_store.h"
+#include "valerant/explore/floor_estimator.h"
+#include "valerant/slam/slam.h"
+
+namespace valerant {
+
+class LocalBranchPipeline : public BranchPipeline {
+ public:
+  // `slam`: a fresh SLAM; start() feeds it the context.
+  LocalBranchPipeline(std::unique_ptr<Slam> slam, const Config& config);
+
+  BranchResult start(const Rollout& context) override;
+  void checkpoint(CheckpointId id) override;
+  void restore(CheckpointId id) override;
+  void drop(CheckpointId id) override { saved_.drop(id); }
+  std::future<BranchResult> evaluate(Rollout rollout, bool rotation_only) override;
+  void commit(const BranchResult& chosen) override;
+  FloorPlane floorAt(const Eigen::Isometry3d& camera_to_map) override { return floor_.at(camera_to_map); }
+
+ private:
+  struct Saved {
+    std::shared_ptr<const SlamState> slam;
+    FloorEstimator floor;
+  };
+  Config config_;
+  std::unique_ptr<Slam> slam_;
+  FloorEstimator floor_;
+  CheckpointStore<Saved> saved_;
+};
+
+}  // namespace valerant

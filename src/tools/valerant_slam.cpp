@@ -1,0 +1,214 @@
+// valerant_slam: runs a SLAM backend on engine rollouts and scores it against the
+// engine's ground truth. The SLAM tracks the committed context (the spawn view), then
+// one branch per candidate tracks that candidate's rollout, as the explorer does.
+// Per candidate it writes the estimated TUM trajectory (SLAM units) next to the
+// ground-truth one (metres), the keyframe clouds as PLY (x y z rgb confidence) and every
+// frame's depth and confidence (32-bit float TIFF, SLAM units); stdout gets one JSON
+// line, logs go to stderr. OpenCV runs single-threaded so that frames per second are
+// per branch on one core (pin the process with taskset for a clean figure).
+//
+//   valerant_slam --map oa_dm1 [--spawn 0] [--candidates uw,jw,lw,jq,lq]
+//                 [--slam visual|oracle] [--config FILE] --out DIR
+#include <chrono>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "cli_args.h"
+#include "valerant/common/tum_trajectory.h"
+#include "valerant/eval/trajectory_metrics.h"
+#include "valerant/map/map_exports.h"
+#include "valerant/slam/slam_factory.h"
+#include "valerant/slam/visual/visual_slam.h"
+#include "valerant/world/quake3/quake3_world.h"
+
+using namespace valerant;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kUnitsPerMetre = 32.0;  // DESIGN.md section 6
+
+// Wall and CPU time of this thread: on a shared or virtual machine the CPU time is the
+// cost of the algorithm, the wall time what a user waits.
+struct Clock {
+  double wall = 0, cpu = 0;
+  static Clock now() {
+    timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return {std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(),
+            static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec)};
+  }
+  Clock operator-(const Clock& o) const { return {wall - o.wall, cpu - o.cpu}; }
+  Clock& operator+=(const Clock& o) {
+    wall += o.wall, cpu += o.cpu;
+    return *this;
+  }
+};
+
+std::vector<std::string> splitCandidates(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ','))
+    if (!item.empty()) out.push_back(item);
+  if (out.empty()) throw InputError("--candidates '" + list + "'", "names no candidate");
+  return out;
+}
+
+std::unique_ptr<Slam> makeBackend(const std::string& backend, const CameraIntrinsics& k, const Config& config) {
+  if (backend == "visual") return std::make_unique<VisualSlam>(k, config.slam);
+  return makeSlam(backend, k, config);
+}
+
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+void writeImage(const std::string& path, const cv::Mat& image) {
+  if (!cv::imwrite(path, image)) throw InputError(path, "cannot write image");
+}
+
+void writeCloud(const std::string& path, const std::vector<KeyframeCloud>& clouds) {
+  std::vector<FusedPoint> points;
+  for (const auto& kf : clouds)
+    for (const auto& p : kf.points) points.push_back({p.position, p.rgb, p.confidence, 0.f});
+  if (points.empty()) {
+    std::cerr << "valerant_slam: no keyframe points, " << path << " not written\n";
+    return;
+  }
+  writeCloudPly(path, points, true);
+}
+
+struct Track {
+  std::vector<TrackedFrame> frames;
+  Clock time;
+};
+
+Track trackFrames(Slam& slam, const Rollout& r) {
+  Track t;
+  for (size_t i = 0; i < r.frames.size(); ++i) {
+    SlamInput in;
+    in.rgb = r.frames[i];
+    if (i < r.truth.size()) in.truth = &r.truth[i];
+    const Clock start = Clock::now();
+    t.frames.push_back(slam.track(in));
+    t.time += Clock::now() - start;
+  }
+  return t;
+}
+
+// Mean wall milliseconds of one snapshot() + restore() of `slam`'s current state.
+double snapshotRestoreMs(Slam& slam) {
+  constexpr int kRepeats = 50;
+  const Clock start = Clock::now();
+  for (int i = 0; i < kRepeats; ++i) slam.restore(slam.snapshot());
+  return 1e3 * (Clock::now() - start).wall / kRepeats;
+}
+
+nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context, const Rollout& rollout,
+                                 Slam& branch, const Track& track, double min_confidence, const std::string& dir) {
+  fs::create_directories(dir + "/depth");
+  fs::create_directories(dir + "/confidence");
+  std::vector<Eigen::Isometry3d> truth;
+  std::vector<StampedPose> truth_tum, estimate_tum;
+  for (const Rollout* r : {&context, &rollout})
+    for (const FrameTruth& t : r->truth) {
+      Eigen::Isometry3d metres = t.camera_to_world;
+      metres.translation() /= kUnitsPerMetre;
+      truth.push_back(metres);
+    }
+  const std::vector<Eigen::Isometry3d> estimate = branch.trajectory();
+  for (size_t i = 0; i < estimate.size(); ++i) estimate_tum.push_back({static_cast<double>(i), estimate[i]});
+  for (size_t i = 0; i < truth.size(); ++i) truth_tum.push_back({static_cast<double>(i), truth[i]});
+  writeTumTrajectory(dir + "/trajectory.txt", estimate_tum);
+  writeTumTrajectory(dir + "/gt_trajectory.txt", truth_tum);
+  writeCloud(dir + "/keyframes.ply", branch.keyframeClouds());
+
+  std::vector<cv::Mat> depth, confidence, truth_depth;
+  int lost = 0, in_solid = 0, rotation_only = 0;
+  for (size_t i = 0; i < track.frames.size(); ++i) {
+    const TrackedFrame& f = track.frames[i];
+    char file[32];
+    std::snprintf(file, sizeof(file), "%06zu.tiff", i);
+    writeImage(dir + "/depth/" + file, f.depth);
+    writeImage(dir + "/confidence/" + file, f.confidence);
+    depth.push_back(f.depth);
+    confidence.push_back(f.confidence);
+    truth_depth.push_back(rollout.truth[i].depth_m);
+    lost += f.state == TrackingState::kLost;
+    rotation_only += f.rotation_only;
+    in_solid += rollout.truth[i].in_solid;
+  }
+  nlohmann::json out = {{"candidate", name}, {"frames", track.frames.size()}, {"dir", dir}};
+  if (estimate.size() == truth.size()) {
+    const TrajectoryError e = trajectoryError(estimate, truth);
+    out["path_m"] = e.path_length;
+    out["ate_m"] = e.ate_rmse;
+    out["ate_percent"] = number(e.ate_percent);
+    out["rotation_rmse_deg"] = e.rotation_rmse_deg;
+    out["sim3_scale"] = e.aligned ? number(e.alignment.scale) : nullptr;
+  }
+  const DepthError d = depthError(depth, confidence, truth_depth, min_confidence);
+  out["depth_abs_rel"] = number(d.abs_rel);
+  out["depth_scale"] = number(d.scale);
+  out["confident_fraction"] = d.confident_fraction;
+  out["fps"] = track.frames.size() / track.time.wall;
+  out["fps_cpu"] = track.frames.size() / track.time.cpu;
+  out["lost_frames"] = lost;
+  out["in_solid_frames"] = in_solid;
+  out["rotation_only_frames"] = rotation_only;
+  out["keyframes"] = branch.keyframeCount();
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--config", "--out"});
+    Config config = loadConfig(args.get("--config", defaultConfigPath()));
+    config.world.map = args.get("--map", config.world.map);
+    config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
+    const std::string backend = args.get("--slam", config.slam.backend);
+    const std::string out = args.required("--out");
+    std::vector<ActionSequence> sequences;  // validated before any rendering
+    for (const auto& c : splitCandidates(args.get("--candidates", "uw,jw,lw,jq,lq")))
+      sequences.push_back(makeActionSequence(c, config));
+    cv::setNumThreads(1);
+
+    auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
+    quake3::Quake3World world(map, config);
+    auto slam = makeBackend(backend, world.intrinsics(), config);
+    std::cerr << "valerant_slam: " << backend << " SLAM on " << config.world.map << " spawn " << config.world.spawn
+              << ", " << sequences.size() << " candidates\n";
+    fs::create_directories(out);
+    const Rollout context = world.context();
+    trackFrames(*slam, context);
+
+    nlohmann::json candidates = nlohmann::json::array();
+    const CheckpointId start = world.checkpoint();
+    for (const auto& seq : sequences) {
+      world.restore(start);
+      const Rollout rollout = world.rollout(seq);
+      auto branch = slam->branch();
+      const Track track = trackFrames(*branch, rollout);
+      const std::string dir = out + "/" + (seq.name.find(':') == std::string::npos ? seq.name : "custom");
+      nlohmann::json c = evaluateCandidate(seq.name, context, rollout, *branch, track,
+                                           config.collision.min_confidence, dir);
+      c["snapshot_restore_ms"] = snapshotRestoreMs(*branch);
+      std::cerr << "valerant_slam: " << c.dump() << "\n";
+      candidates.push_back(c);
+    }
+    const nlohmann::json line = {{"tool", "valerant_slam"}, {"map", config.world.map},
+                                 {"spawn", config.world.spawn}, {"slam", backend},
+                                 {"out", out},          {"candidates", candidates}};
+    std::cout << line.dump() << std::endl;
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "valerant_slam: error: " << e.what() << std::endl;
+    return 1;
+  }
+}

@@ -1,0 +1,60 @@
+// Map accuracy and completeness on a hand-made floor: samples every 0.1 m on a 2 m x
+// 2 m square at z = 0, a camera 1 m above looking straight down.
+#include <gtest/gtest.h>
+
+#include "valerant/eval/map_accuracy.h"
+
+using namespace valerant;
+
+namespace {
+
+constexpr double kUnits = 32.0;
+
+std::vector<quake3::SurfaceSample> floorSamples() {
+  std::vector<quake3::SurfaceSample> s;
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j)
+      s.push_back({Eigen::Vector3f(-1 + 0.1 * i, -1 + 0.1 * j, 0) * kUnits, Eigen::Vector3f::UnitZ()});
+  return s;
+}
+
+// Looking down from 1 m: the 90-degree camera sees a 2 m x 2 m patch; truth depth 1 m.
+FrameTruth downCamera(const CameraIntrinsics& k) {
+  FrameTruth f;
+  f.camera_to_world.linear() << 0, -1, 0, -1, 0, 0, 0, 0, -1;
+  f.camera_to_world.translation() = Eigen::Vector3d(0, 0, 1) * kUnits;
+  f.depth_m = cv::Mat(k.height, k.width, CV_32F, cv::Scalar(1.0f));
+  return f;
+}
+
+}  // namespace
+
+TEST(MapAccuracy, DistancesToTheSurface) {
+  const CameraIntrinsics k = CameraIntrinsics::fromHorizontalFov(64, 64, 90);
+  // Straight above samples: 30 points 0.1 m up and 10 points 0.3 m up, so the median
+  // is 0.1 and the 90th percentile (index 36 of 40) is 0.3.
+  std::vector<Eigen::Vector3d> map;
+  for (int i = 0; i < 30; ++i) map.push_back({-1 + 0.1 * (i % 21), -1 + 0.1 * (i / 21), 0.1});
+  for (int i = 0; i < 10; ++i) map.push_back({-1 + 0.1 * i, 0.5, 0.3});
+  const MapAccuracy a = mapAccuracy(map, floorSamples(), {downCamera(k)}, k);
+  EXPECT_EQ(a.map_points, 40);
+  EXPECT_NEAR(a.median_m, 0.1, 1e-6);
+  EXPECT_NEAR(a.p90_m, 0.3, 1e-6);
+}
+
+TEST(MapAccuracy, CompletenessOfWhatTheCameraSaw) {
+  const CameraIntrinsics k = CameraIntrinsics::fromHorizontalFov(64, 64, 90);
+  // Map points cover x < 0 of the floor exactly.
+  std::vector<Eigen::Vector3d> map;
+  for (const auto& s : floorSamples())
+    if (s.position.x() < -1e-3) map.push_back(s.position.cast<double>() / kUnits);
+  const MapAccuracy a = mapAccuracy(map, floorSamples(), {downCamera(k)}, k);
+  // fx = 32: pixel u sees camera x = (u - 32) / 32 in [-1, 0.97]. Camera x is world -Y
+  // and camera y world -X, so world x and y in [-0.97, 1]: samples -0.9 .. 1.0, 20 x 20.
+  EXPECT_EQ(a.seen_samples, 400);
+  // Covered within 0.25 m of the map (x <= -0.1): x = -0.9 .. 0.1, 11 of 20 columns.
+  EXPECT_DOUBLE_EQ(a.completeness_percent, 100.0 * 11 / 20);
+  // Nothing seen, nothing complete; an empty map is 0%.
+  const MapAccuracy empty = mapAccuracy({}, floorSamples(), {downCamera(k)}, k);
+  EXPECT_EQ(empty.completeness_percent, 0.0);
+}
