@@ -1,9 +1,8 @@
 #include "valerant/explore/episode.h"
 
 #include <chrono>
-#include <future>
 
-#include "valerant/explore/policy.h"
+#include "valerant/explore/local_branch_pipeline.h"
 
 namespace valerant {
 namespace {
@@ -12,49 +11,51 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// Before any floor is seen the vertical is the first camera's up: -y of its optical frame.
-Eigen::Vector3d cameraUp(const Eigen::Isometry3d& camera_to_map) { return -camera_to_map.linear().col(1); }
+// Camera centres of a candidate: the committed start, then one per frame.
+std::vector<Eigen::Vector3d> centresOf(const Eigen::Vector3d& start, const std::vector<Eigen::Isometry3d>& poses) {
+  std::vector<Eigen::Vector3d> centres{start};
+  for (const auto& pose : poses) centres.push_back(pose.translation());
+  return centres;
+}
 
 }  // namespace
 
 Episode::Episode(WorldModel& world, std::unique_ptr<Slam> slam, const Config& config)
+    : Episode(world, std::make_unique<LocalBranchPipeline>(std::move(slam), config),
+              std::make_unique<PolicyBranchSelector>(config.policy), nullptr, nullptr, config) {}
+
+Episode::Episode(WorldModel& world, BranchPipeline& pipeline, BranchSelector& selector, const Config& config)
+    : Episode(world, nullptr, nullptr, &pipeline, &selector, config) {}
+
+Episode::Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline,
+                 std::unique_ptr<BranchSelector> own_selector, BranchPipeline* pipeline, BranchSelector* selector,
+                 const Config& config)
     : world_(world),
-      slam_(std::move(slam)),
+      own_pipeline_(std::move(own_pipeline)),
+      own_selector_(std::move(own_selector)),
+      pipeline_(pipeline ? *pipeline : *own_pipeline_),
+      selector_(selector ? *selector : *own_selector_),
       config_(config),
       d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units),
-      floor_(config.floor, Eigen::Vector3d::UnitZ(), config.collision.min_confidence, config.world.seed),
       map_(config.map, config.collision),
       rewinder_(config.dead_pocket) {
   const Rollout context = world_.context();
-  bool first = true;
-  for (size_t i = 0; i < context.frames.size(); ++i) {
-    SlamInput in;
-    in.rgb = context.frames[i];
-    if (i < context.truth.size()) in.truth = &context.truth[i];
-    const TrackedFrame f = slam_->track(in);
-    if (first) {
-      floor_ = FloorEstimator(config.floor, cameraUp(f.camera_to_map), config.collision.min_confidence,
-                              config.world.seed);
-      first = false;
-    }
-    if (f.keyframe && slam_->keyframeCount() > 0) {
-      const KeyframeCloud kf = slam_->keyframeClouds(slam_->keyframeCount() - 1).front();
-      map_.fuse(kf, floor_.update(kf.points, f.camera_to_map));
-    }
-    trajectory_.push_back(f.camera_to_map);
-    if (i < context.truth.size()) truth_.push_back(context.truth[i]);
-  }
-  anchorGrid();
+  const BranchResult start = pipeline_.start(context);
+  for (size_t i = 0; i < start.keyframes.size(); ++i) map_.fuse(start.keyframes[i], start.keyframe_floors[i]);
+  trajectory_ = start.poses;
+  truth_.assign(context.truth.begin(), context.truth.begin() + std::min(context.truth.size(), start.poses.size()));
+  anchorGrid(start.floor_reliable);
 }
 
-void Episode::anchorGrid() {
+void Episode::anchorGrid(bool reliable_floor) {
   // The grid is anchored at the start pose on the floor plane; until a reliable floor
   // exists the anchor is provisional and is redone once one is found.
   const Eigen::Isometry3d& start = trajectory_.front();
-  const FloorPlane anchor = floor_.at(start);
-  anchor_kappa_ = anchor.cameraHeight();
-  anchored_on_reliable_floor_ = floor_.hasReliable();
-  grid_.emplace(config_.policy, anchor, start.linear().col(2), d_fwd_normalised_);
+  anchor_floor_ = pipeline_.floorAt(start);
+  anchor_heading_ = start.linear().col(2);
+  anchor_kappa_ = anchor_floor_.cameraHeight();
+  anchored_on_reliable_floor_ = reliable_floor;
+  grid_.emplace(config_.policy, anchor_floor_, anchor_heading_, d_fwd_normalised_);
   for (const auto& pose : trajectory_) grid_->markVisited(pose.translation());
   for (const auto& kf : map_.keyframes())
     for (const auto& p : kf->points)
@@ -71,54 +72,55 @@ StepRecord Episode::step() {
   StepRecord record;
   record.step = ++steps_;
   record.checkpoint = world_.checkpoint();
-  saved_.emplace(record.checkpoint, Saved{slam_->snapshot(), floor_, *grid_, map_.marker(), trajectory_.size(),
-                                          committed_steps_});
-
-  BranchContext ctx;
-  ctx.committed_slam = slam_.get();
-  ctx.committed_floor = &floor_;
-  ctx.grid = &*grid_;
-  ctx.failed = &failed_;
-  ctx.start_centre = trajectory_.back().translation();
-  ctx.d_fwd_normalised = d_fwd_normalised_;
+  pipeline_.checkpoint(record.checkpoint);
+  saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_});
+  const Eigen::Vector3d start_centre = trajectory_.back().translation();
 
   // Rendering needs the world's single GL context, so rollouts are made one after the
-  // other; each one's reconstruction starts in its own thread as soon as it exists.
-  std::vector<std::future<BranchOutcome>> pending;
+  // other; the pipeline starts each one's reconstruction as soon as it exists.
+  std::vector<std::future<BranchResult>> pending;
   for (const std::string& name : candidateNames()) {
     const ActionSequence seq = makeActionSequence(name, config_);
     const auto t = std::chrono::steady_clock::now();
     Rollout rollout = world_.rollout(seq);
     record.seconds.render += secondsSince(t);
-    pending.push_back(std::async(std::launch::async, evaluateBranch, std::move(rollout), seq.rotationOnly(),
-                                 std::cref(ctx), std::cref(config_)));
+    pending.push_back(pipeline_.evaluate(std::move(rollout), seq.rotationOnly()));
   }
-  std::vector<BranchOutcome> outcomes;
+  std::vector<BranchResult> results;
+  std::vector<std::vector<Eigen::Vector3d>> centres;
   std::vector<BranchVerdict> verdicts;
+  Cell start_cell{-1, -1};
+  grid_->cellOf(start_centre, start_cell);
   for (auto& f : pending) {
-    outcomes.push_back(f.get());
-    verdicts.push_back(outcomes.back().verdict);
-    record.seconds += outcomes.back().seconds;
+    results.push_back(f.get());
+    record.seconds += results.back().seconds;
+    const auto t = std::chrono::steady_clock::now();
+    centres.push_back(centresOf(start_centre, results.back().poses));
+    BranchVerdict v = results.back().verdict;
+    const CoverageTerms terms = grid_->score(centres.back());
+    v.c_new = terms.c_new;
+    v.c_front = terms.c_front;
+    v.coverage = terms.coverage;
+    v.progress = terms.progress;
+    v.enters_failed = failed_.enters(terms.cells, start_cell);
+    verdicts.push_back(v);
+    record.seconds.policy += secondsSince(t);
   }
   const auto policy_start = std::chrono::steady_clock::now();
-  record.chosen = selectBranch(verdicts, config_.policy, (uint64_t{config_.world.seed} << 32) + record.step);
+  record.chosen = selector_.select(verdicts, (uint64_t{config_.world.seed} << 32) + record.step);
   record.seconds.policy += secondsSince(policy_start);
-  for (size_t i = 0; i < outcomes.size(); ++i)
-    record.candidates.push_back({verdicts[i], outcomes[i].centres, outcomes[i].rollout.truth});
+  for (size_t i = 0; i < results.size(); ++i) record.candidates.push_back({verdicts[i], centres[i], results[i].rollout.truth});
 
-  Cell start_cell{-1, -1};
-  grid_->cellOf(ctx.start_centre, start_cell);
   std::set<Cell> cells;
   bool rotation_only = false;
   if (record.chosen >= 0) {
-    BranchOutcome& chosen = outcomes[record.chosen];
-    rotation_only = chosen.rotation_only;
-    for (const auto& c : chosen.centres) {
+    rotation_only = verdicts[record.chosen].rotation_only;
+    for (const auto& c : centres[record.chosen]) {
       Cell cell;
       if (grid_->cellOf(c, cell)) cells.insert(cell);
     }
     const auto t = std::chrono::steady_clock::now();
-    commit(chosen);
+    commit(results[record.chosen], centres[record.chosen]);
     record.seconds.fusion += secondsSince(t);
   }
   release(rewinder_.recordStep(record.checkpoint, start_cell, record.chosen >= 0, rotation_only, cells));
@@ -129,29 +131,27 @@ StepRecord Episode::step() {
   return record;
 }
 
-void Episode::commit(BranchOutcome& outcome) {
-  world_.commit(outcome.rollout);
-  slam_ = std::move(outcome.slam);
-  floor_ = outcome.floor;
-  for (size_t i = 0; i < outcome.keyframes.size(); ++i) map_.fuse(outcome.keyframes[i], outcome.keyframe_floors[i]);
-  trajectory_.insert(trajectory_.end(), outcome.poses.begin(), outcome.poses.end());
-  truth_.insert(truth_.end(), outcome.rollout.truth.begin(), outcome.rollout.truth.end());
+void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector3d>& centres) {
+  world_.commit(chosen.rollout);
+  pipeline_.commit(chosen);
+  for (size_t i = 0; i < chosen.keyframes.size(); ++i) map_.fuse(chosen.keyframes[i], chosen.keyframe_floors[i]);
+  trajectory_.insert(trajectory_.end(), chosen.poses.begin(), chosen.poses.end());
+  truth_.insert(truth_.end(), chosen.rollout.truth.begin(), chosen.rollout.truth.end());
   ++committed_steps_;
-  if (!anchored_on_reliable_floor_ && floor_.hasReliable()) {
-    anchorGrid();
+  if (!anchored_on_reliable_floor_ && chosen.floor_reliable) {
+    anchorGrid(true);
     return;
   }
-  for (const auto& c : outcome.centres) grid_->markVisited(c);
-  for (size_t i = map_.marker() - outcome.keyframes.size(); i < map_.marker(); ++i)
+  for (const auto& c : centres) grid_->markVisited(c);
+  for (size_t i = map_.marker() - chosen.keyframes.size(); i < map_.marker(); ++i)
     for (const auto& p : map_.keyframes()[i]->points)
       if (std::abs(p.h) < config_.collision.height_low) grid_->markObservedFloor(p.position.cast<double>());
 }
 
 void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
   world_.restore(decision.checkpoint);
+  pipeline_.restore(decision.checkpoint);
   const Saved& s = saved_.at(decision.checkpoint);
-  slam_->restore(s.slam);
-  floor_ = s.floor;
   grid_ = s.grid;
   map_.truncate(s.map_marker);
   trajectory_.resize(s.trajectory_size);
@@ -167,6 +167,7 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
 void Episode::release(const std::vector<uint64_t>& checkpoints) {
   for (uint64_t id : checkpoints) {
     world_.dropCheckpoint(id);
+    pipeline_.drop(id);
     saved_.erase(id);
   }
 }

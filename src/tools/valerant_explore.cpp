@@ -75,6 +75,13 @@ void writeOutputs(const Episode& episode, const quake3::Quake3World& world, cons
   const MapAccuracy accuracy =
       mapAccuracy(map_metres, quake3::sampleSurfaces(world.map().geometry, kSurfaceSamplesPerSquareMetre, config.world.seed),
                   episode.truth(), world.intrinsics());
+  int penetration_free_steps = 0;  // committed steps none of whose frames entered solid
+  for (const auto& s : episode.history()) {
+    if (s.chosen < 0) continue;
+    bool clean = true;
+    for (const auto& f : s.candidates[s.chosen].truth) clean &= !f.in_solid;
+    penetration_free_steps += clean;
+  }
   StageSeconds total;
   double wall = 0;
   for (const auto& s : episode.history()) {
@@ -97,6 +104,7 @@ void writeOutputs(const Episode& episode, const quake3::Quake3World& world, cons
   }();
   report["ground_truth"] = {{"committed_frames", truth.committed_frames},
                             {"penetrations", truth.penetrating_frames},
+                            {"penetration_free_steps", penetration_free_steps},
                             {"reachable_m2", truth.reachable_m2},
                             {"observed_reachable_m2", truth.observed_reachable_m2},
                             {"observed_reachable_percent", truth.observed_reachable_percent},

@@ -147,13 +147,18 @@ TEST(ReachableFloorOnMap, OaDm1AreaIsPlausible) {
 
 TEST(ReachableFloorOnMap, PatchFloorsCarryThePlayer) {
   VALERANT_REQUIRE_OPENARENA();
-  // Two wrackdm17 spawns stand on a floor made only of Bezier patches.
+  // Two wrackdm17 spawns (at x = -1344 and -1216) stand on a floor made only of
+  // Bezier patches; without patch collision they would have no floor at all.
   const auto map = loadMap("wrackdm17");
   const CollisionModel m = CollisionModel::fromBsp(map);
-  for (const auto& s : map.spawnPoints()) {
-    const ReachableFloor f = floodFillReachableFloor(m, s.origin);
-    EXPECT_GT(f.areaSquareMetres(), 100) << s.origin.transpose();
-  }
+  const PlayerHull hull;
+  const float max_drop = ReachableFloorParams{}.max_drop;
+  for (const auto& s : map.spawnPoints())
+    EXPECT_TRUE(m.dropBox(s.origin + Vector3f(0, 0, 9), hull.mins, hull.maxs, max_drop))
+        << s.origin.transpose();
+  const ReachableFloor f = floodFillReachableFloor(m, {-1344, 704, 296});
+  EXPECT_NEAR(f.cells.front().z(), 256, 1e-2);  // the patch floor, not the void below
+  EXPECT_GT(f.areaSquareMetres(), 100);
 }
 
 }  // namespace

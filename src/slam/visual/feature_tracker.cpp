@@ -19,7 +19,7 @@ void FeatureTracker::track(const cv::Mat& gray) {
   for (const Track& t : tracks_) prev.push_back(t.px);
   std::vector<uchar> status, back_status;
   std::vector<float> error;
-  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03);
+  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, params_.iterations, 0.03);
   cv::calcOpticalFlowPyrLK(pyramid_, pyramid, prev, next, status, error, window, params_.pyramid_levels, stop);
   back = prev;  // initial guess for the backward pass
   cv::calcOpticalFlowPyrLK(pyramid, pyramid_, next, back, back_status, error, window, params_.pyramid_levels,

@@ -1,9 +1,9 @@
 #include "valerant/slam/visual/plane_sweep.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
-#include <algorithm>
 
 #include "valerant/common/error.h"
 #include "valerant/slam/visual/pinhole.h"
@@ -19,46 +19,74 @@ Eigen::Matrix3d planeHomography(const Eigen::Matrix3d& kk, const Eigen::Isometry
   return kk * m * kk.inverse();
 }
 
-// Adds min(|ref - src(H x)|, truncation) to `sum` for every reference pixel x, with
-// bilinear sampling; pixels mapping outside the source add the truncation. Written by
-// hand because cv::warpPerspective + absdiff + min + add took 2-3x longer per plane (it
-// builds a remap table per call), and these warps are most of the per-frame budget.
-// Each row runs in three loops (coordinates, gathers, blend) so that the compiler can
-// vectorise the first and the last.
-void addWarpedDifference(const cv::Mat& ref, const cv::Mat& src, const Eigen::Matrix3d& h, float truncation,
-                         cv::Mat& sum) {
-  const int w = ref.cols;
-  const float max_x = static_cast<float>(src.cols - 1) - 1e-3f, max_y = static_cast<float>(src.rows - 1) - 1e-3f;
-  const int step = static_cast<int>(src.step1());
-  const float* base = src.ptr<float>(0);
-  const float h00 = static_cast<float>(h(0, 0)), h10 = static_cast<float>(h(1, 0)), h20 = static_cast<float>(h(2, 0));
-  std::vector<float> fx(w), fy(w), p00(w), p01(w), p10(w), p11(w);
-  std::vector<int> offset(w);
-  std::vector<uint8_t> inside(w);
+// A source image re-sampled with the reference camera's orientation (once per frame,
+// by cv::warpPerspective with the homography at infinity K R K^-1), on a canvas padded
+// by `margin` pixels. For the plane z = 1 / rho of the reference, reference pixel x then
+// samples it at (x + rho e_xy) / (1 + rho e_z) with e = K R^T t: per plane a uniform
+// scale about the epipole, constant along each row in y. Outside the source the canvas
+// holds a value far from any normalised grey level, which truncation turns into the
+// maximum cost.
+struct CompensatedSource {
+  cv::Mat canvas;  // CV_32F
+  Eigen::Vector3d epipole;
+  int margin = 0;
+};
+
+constexpr float kOutside = -1e4f;
+
+CompensatedSource compensate(const SweepView& source, const Eigen::Matrix3d& kk, const Eigen::Isometry3d& ref_to_src,
+                             const cv::Size& size, int margin) {
+  CompensatedSource c;
+  c.margin = margin;
+  c.epipole = kk * ref_to_src.linear().transpose() * ref_to_src.translation();
+  Eigen::Matrix3d canvas_to_ref = Eigen::Matrix3d::Identity();
+  canvas_to_ref(0, 2) = canvas_to_ref(1, 2) = -margin;
+  const Eigen::Matrix3d m = kk * ref_to_src.linear() * kk.inverse() * canvas_to_ref;
+  cv::Matx33d h;
+  for (int r = 0; r < 3; ++r)
+    for (int col = 0; col < 3; ++col) h(r, col) = m(r, col);
+  cv::warpPerspective(source.image, c.canvas, h, cv::Size(size.width + 2 * margin, size.height + 2 * margin),
+                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(kOutside));
+  return c;
+}
+
+// Adds min(|ref - source(plane rho)|, truncation) to `sum` for every reference pixel,
+// by linear interpolation of a vertically blended canvas row. Written by hand: no
+// OpenCV call samples a per-plane affine map and takes the truncated difference in one
+// pass, and these samples (planes x sources x pixels) are most of the frame's budget.
+void addPlaneDifference(const cv::Mat& ref, const CompensatedSource& src, double rho, float truncation,
+                        cv::Mat& sum, std::vector<float>& row) {
+  const double w = 1.0 + rho * src.epipole.z();
+  if (w <= 1e-6) {  // the plane is behind the source camera
+    sum += truncation;
+    return;
+  }
+  const float scale = static_cast<float>(1.0 / w);
+  const float shift_x = static_cast<float>(rho * src.epipole.x() / w) + static_cast<float>(src.margin);
+  const float shift_y = static_cast<float>(rho * src.epipole.y() / w) + static_cast<float>(src.margin);
+  const int cols = src.canvas.cols;
+  const float max_u = static_cast<float>(cols - 1) - 1e-3f, max_v = static_cast<float>(src.canvas.rows - 1) - 1e-3f;
+  row.resize(cols);
   for (int y = 0; y < ref.rows; ++y) {
-    const float nx0 = static_cast<float>(h(0, 1) * y + h(0, 2)), ny0 = static_cast<float>(h(1, 1) * y + h(1, 2)),
-                nz0 = static_cast<float>(h(2, 1) * y + h(2, 2));
-    for (int x = 0; x < w; ++x) {
-      const float xf = static_cast<float>(x), nz = nz0 + h20 * xf, inv = 1.f / nz;
-      const float u = (nx0 + h00 * xf) * inv, v = (ny0 + h10 * xf) * inv;
-      const bool in = nz > 0 && u >= 0 && v >= 0 && u < max_x && v < max_y;
-      const float uc = in ? u : 0.f, vc = in ? v : 0.f;
-      const int u0 = static_cast<int>(uc), v0 = static_cast<int>(vc);
-      fx[x] = uc - static_cast<float>(u0);
-      fy[x] = vc - static_cast<float>(v0);
-      offset[x] = v0 * step + u0;
-      inside[x] = in;
-    }
-    for (int x = 0; x < w; ++x) {
-      const float* p = base + offset[x];
-      p00[x] = p[0], p01[x] = p[1], p10[x] = p[step], p11[x] = p[step + 1];
-    }
     const float* r = ref.ptr<float>(y);
     float* out = sum.ptr<float>(y);
-    for (int x = 0; x < w; ++x) {
-      const float top = p00[x] + fx[x] * (p01[x] - p00[x]), bottom = p10[x] + fx[x] * (p11[x] - p10[x]);
-      const float d = std::min(std::abs(r[x] - (top + fy[x] * (bottom - top))), truncation);
-      out[x] += inside[x] ? d : truncation;
+    const float v = scale * static_cast<float>(y) + shift_y;
+    if (!(v >= 0 && v < max_v)) {
+      for (int x = 0; x < ref.cols; ++x) out[x] += truncation;
+      continue;
+    }
+    const int v0 = static_cast<int>(v);
+    const float fy = v - static_cast<float>(v0);
+    const float* top = src.canvas.ptr<float>(v0);
+    const float* bottom = src.canvas.ptr<float>(v0 + 1);
+    for (int u = 0; u < cols; ++u) row[u] = top[u] + fy * (bottom[u] - top[u]);
+    for (int x = 0; x < ref.cols; ++x) {
+      const float u = scale * static_cast<float>(x) + shift_x;
+      const bool in = u >= 0 && u < max_u;
+      const int u0 = in ? static_cast<int>(u) : 0;
+      const float fx = u - static_cast<float>(u0);
+      const float value = row[u0] + fx * (row[u0 + 1] - row[u0]);
+      out[x] += in ? std::min(std::abs(r[x] - value), truncation) : truncation;
     }
   }
 }
@@ -154,12 +182,17 @@ SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& 
   const cv::Size window(params.window_px, params.window_px);
   const float truncation = static_cast<float>(params.truncation);
   CurveTracker curve(size.area());
+  // Padding keeps samples that leave the reference's view but not the source's.
+  const int margin = std::max(size.width, size.height) / 8;
+  std::vector<CompensatedSource> compensated;
+  for (size_t s = 0; s < sources.size(); ++s)
+    compensated.push_back(compensate(sources[s], kk, ref_to_src[s], size, margin));
   cv::Mat sum(size, CV_32F), cost(size, CV_32F);
+  std::vector<float> row;
   for (int i = 0; i < n; ++i) {
     sum.setTo(0);
-    for (size_t s = 0; s < sources.size(); ++s)
-      addWarpedDifference(reference.image, sources[s].image, planeHomography(kk, ref_to_src[s], i * rho_step),
-                          truncation, sum);
+    for (const CompensatedSource& c : compensated)
+      addPlaneDifference(reference.image, c, i * rho_step, truncation, sum, row);
     cv::boxFilter(sum, cost, CV_32F, window, cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
     curve.add(i, cost.ptr<float>(0));
   }

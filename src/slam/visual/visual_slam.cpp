@@ -436,7 +436,7 @@ void VisualSlam::denseDepth(const Frame& frame, TrackedFrame& out) const {
     const visual::Keyframe& kf = *s.map.keyframes[k];
     if (kf.images->frame == frame.index) continue;
     const double baseline = (kf.camera_to_map.translation() - centre).norm() / s.median_depth;
-    if (baseline < params_.sweep.min_baseline_ratio) continue;
+    if (baseline < params_.sweep.min_baseline_ratio || baseline > params_.sweep.max_baseline_ratio) continue;
     if (kf.camera_to_map.linear().col(2).dot(axis) < min_cos) continue;
     sources.push_back({kf.images->sweep, kf.camera_to_map});
   }

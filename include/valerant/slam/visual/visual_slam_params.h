@@ -13,6 +13,7 @@ struct FeatureTrackerParams {
   int min_distance_px = 8;          // spacing of corners, keeps PnP and BA well spread
   int window_px = 15;               // KLT window
   int pyramid_levels = 3;           // KLT pyramid (level 3 = 1/8 size) covers fast yaw
+  int iterations = 20;              // KLT iterations per level
   double max_forward_backward_px = 0.7;  // forward-backward disagreement that drops a track
 };
 
@@ -63,7 +64,8 @@ struct PlaneSweepParams {
   int window_px = 5;             // SAD window at sweep resolution
   double truncation = 1.5;       // per-pixel |difference| cap (local contrasts): occlusions, borders
   double noise_level = 0.1;      // SAD floor (local contrasts): resampling noise
-  double min_baseline_ratio = 0.04;   // source baseline / median scene depth
+  double min_baseline_ratio = 0.04;   // source baseline / median scene depth, at least ...
+  double max_baseline_ratio = 0.3;    // ... and at most (wider: occlusions, a drop down a ledge)
   double max_view_angle_deg = 50;     // source optical axis within this angle of the frame's
   double near_fraction = 0.4;         // nearest plane at this fraction of the 2nd-percentile point depth
   double confidence_gain = 6.0;       // see plane_sweep.h for the confidence mapping

@@ -1,0 +1,193 @@
+#include "valerant/eval/eval_report.h"
+
+#include <algorithm>
+#include <fstream>
+#include <iomanip>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "valerant/common/error.h"
+
+namespace valerant {
+namespace {
+
+double number(const nlohmann::json& j, const char* key) {
+  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : 0.0;
+}
+
+const cv::Scalar kPalette[] = {{40, 40, 220}, {40, 160, 40}, {220, 120, 30}, {160, 40, 160}, {30, 170, 200},
+                               {120, 120, 120}, {200, 60, 120}, {60, 200, 140}, {0, 90, 200}, {140, 140, 0}};
+
+std::string fixed(double v, int digits = 1) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << v;
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, const std::vector<std::string>& configs) {
+  std::vector<ConfigSummary> out;
+  for (const auto& config : configs) {
+    ConfigSummary s;
+    s.config = config;
+    std::vector<int> curve_counts;
+    for (const auto& r : results) {
+      if (r.run.config != config) continue;
+      if (!r.ok) {
+        ++s.failed;
+        continue;
+      }
+      ++s.runs;
+      const auto& g = r.report["ground_truth"];
+      s.observed_percent += number(g, "observed_reachable_percent");
+      s.observed_m2 += number(g, "observed_reachable_m2");
+      const double clean = number(g, "penetration_free_steps");
+      s.observed_m2_per_clean_step += clean > 0 ? number(g, "observed_reachable_m2") / clean : 0.0;
+      s.penetrations += number(g, "penetrations");
+      s.rewinds += number(r.report, "rewinds");
+      s.false_rejections += number(g, "false_rejections");
+      s.missed_collisions += number(g, "missed_collisions");
+      s.ate_percent += number(g, "ate_percent");
+      s.accuracy_median_m += number(g, "accuracy_median_m");
+      s.completeness_percent += number(g, "completeness_percent");
+      s.wall_seconds += number(r.report, "wall_seconds");
+      const double wall = number(r.report, "wall_seconds");
+      s.frames_per_second += wall > 0 ? number(r.report, "frames_rendered") / wall : 0.0;
+      if (g.contains("observed_percent_by_step")) {
+        const auto& curve = g["observed_percent_by_step"];
+        for (size_t i = 0; i < curve.size(); ++i) {
+          if (s.observed_by_step.size() <= i) {
+            s.observed_by_step.push_back(0);
+            curve_counts.push_back(0);
+          }
+          s.observed_by_step[i] += curve[i].get<double>();
+          ++curve_counts[i];
+        }
+      }
+    }
+    if (s.runs > 0) {
+      for (double* v : {&s.observed_percent, &s.observed_m2, &s.observed_m2_per_clean_step, &s.penetrations, &s.rewinds,
+                        &s.false_rejections, &s.missed_collisions, &s.ate_percent, &s.accuracy_median_m,
+                        &s.completeness_percent, &s.wall_seconds, &s.frames_per_second})
+        *v /= s.runs;
+    }
+    for (size_t i = 0; i < s.observed_by_step.size(); ++i) s.observed_by_step[i] /= curve_counts[i];
+    out.push_back(s);
+  }
+  return out;
+}
+
+void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& results) {
+  std::ofstream out(path);
+  if (!out) throw InputError(path, "cannot write results");
+  out << "map,spawn,config,ok,committed_steps,rewinds,observed_reachable_percent,observed_reachable_m2,"
+         "penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,accuracy_median_m,"
+         "accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,error\n";
+  for (const auto& r : results) {
+    const auto& j = r.report;
+    const nlohmann::json g = r.ok ? j["ground_truth"] : nlohmann::json::object();
+    out << r.run.map << ',' << r.run.spawn << ',' << r.run.config << ',' << r.ok << ',' << number(j, "committed_steps")
+        << ',' << number(j, "rewinds") << ',' << number(g, "observed_reachable_percent") << ','
+        << number(g, "observed_reachable_m2") << ',' << number(g, "penetrations") << ','
+        << number(g, "penetration_free_steps") << ',' << number(g, "false_rejections") << ','
+        << number(g, "missed_collisions") << ',' << number(g, "ate_percent") << ',' << number(g, "accuracy_median_m")
+        << ',' << number(g, "accuracy_p90_m") << ',' << number(g, "completeness_percent") << ','
+        << number(j, "wall_seconds") << ',' << number(j, "frames_rendered") << ",\"" << r.error << "\"\n";
+  }
+}
+
+std::string markdownReport(const std::vector<ConfigSummary>& summaries, const std::vector<EvalResult>& results,
+                           const std::string& command, const std::string& plots_prefix) {
+  std::ostringstream md;
+  md << "# valerant evaluation\n\nMade by:\n\n```\n" << command << "\n```\n\n"
+     << "Means over runs (maps x spawns) per configuration. Coverage is the share of the player-reachable floor "
+        "(1 m cells) the fused map observed; per clean step divides the observed area by the committed steps "
+        "none of whose frames entered solid. Penetrations count committed frames whose player hull is inside "
+        "solid brushes.\n\n"
+     << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | rewinds | "
+        "false rejections | missed collisions | ATE % | accuracy median m | completeness % | s / run | frames/s |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& s : summaries) {
+    md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << fixed(s.observed_percent) << " | "
+       << fixed(s.observed_m2) << " | " << fixed(s.observed_m2_per_clean_step, 2) << " | " << fixed(s.penetrations)
+       << " | " << fixed(s.rewinds, 2) << " | " << fixed(s.false_rejections) << " | " << fixed(s.missed_collisions)
+       << " | " << fixed(s.ate_percent, 2) << " | " << fixed(s.accuracy_median_m, 3) << " | "
+       << fixed(s.completeness_percent) << " | " << fixed(s.wall_seconds) << " | " << fixed(s.frames_per_second)
+       << " |\n";
+  }
+  md << "\n![coverage against step](" << plots_prefix << "coverage_by_step.png)\n"
+     << "![penetrations](" << plots_prefix << "penetrations.png)\n"
+     << "![coverage per clean step](" << plots_prefix << "coverage_per_clean_step.png)\n\n## Runs\n\n"
+     << "| map | spawn | config | reachable observed % | penetrations | rewinds | top-down |\n|---|---|---|---|---|---|---|\n";
+  for (const auto& r : results) {
+    if (!r.ok) {
+      md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | failed: " << r.error
+         << " | | | |\n";
+      continue;
+    }
+    const auto& g = r.report["ground_truth"];
+    md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | "
+       << fixed(number(g, "observed_reachable_percent")) << " | " << number(g, "penetrations") << " | "
+       << number(r.report, "rewinds") << " | " << r.run.dir << "/topdown.png |\n";
+  }
+  return md.str();
+}
+
+cv::Mat plotCoverageCurves(const std::vector<ConfigSummary>& summaries) {
+  const int w = 720, h = 420, left = 60, bottom = 40, top = 30, right = 150;
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar::all(255));
+  size_t steps = 1;
+  double top_value = 1;
+  for (const auto& s : summaries) {
+    steps = std::max(steps, s.observed_by_step.size());
+    for (double v : s.observed_by_step) top_value = std::max(top_value, v);
+  }
+  top_value = std::ceil(top_value / 10) * 10;
+  auto at = [&](double step, double v) {
+    return cv::Point(left + static_cast<int>((w - left - right) * step / std::max<size_t>(1, steps)),
+                     h - bottom - static_cast<int>((h - bottom - top) * v / top_value));
+  };
+  cv::line(img, at(0, 0), at(steps, 0), cv::Scalar::all(0));
+  cv::line(img, at(0, 0), at(0, top_value), cv::Scalar::all(0));
+  for (int t = 0; t <= 4; ++t) {
+    const double v = top_value * t / 4;
+    cv::putText(img, fixed(v, 0), at(0, v) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar::all(0));
+  }
+  cv::putText(img, "reachable floor observed (%) by step", {left, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar::all(0));
+  cv::putText(img, "step", at(steps, 0) + cv::Point(-30, 30), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar::all(0));
+  for (size_t i = 0; i < summaries.size(); ++i) {
+    const auto& curve = summaries[i].observed_by_step;
+    const cv::Scalar colour = kPalette[i % std::size(kPalette)];
+    for (size_t k = 0; k < curve.size(); ++k) {
+      const cv::Point p = at(k + 1, curve[k]);
+      if (k > 0) cv::line(img, at(k, curve[k - 1]), p, colour, 2, cv::LINE_AA);
+      cv::circle(img, p, 2, colour, cv::FILLED);
+    }
+    cv::putText(img, summaries[i].config, {w - right + 10, top + 20 * static_cast<int>(i + 1)},
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, colour, 1, cv::LINE_AA);
+  }
+  return img;
+}
+
+cv::Mat plotBars(const std::vector<ConfigSummary>& summaries, double ConfigSummary::*value, const std::string& title) {
+  const int bar = 50, gap = 20, left = 50, h = 360, bottom = 60, top = 40;
+  const int w = left + static_cast<int>(summaries.size()) * (bar + gap) + gap;
+  cv::Mat img(h, std::max(w, 320), CV_8UC3, cv::Scalar::all(255));
+  double top_value = 1e-9;
+  for (const auto& s : summaries) top_value = std::max(top_value, s.*value);
+  cv::putText(img, title, {10, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar::all(0));
+  for (size_t i = 0; i < summaries.size(); ++i) {
+    const double v = summaries[i].*value;
+    const int x = left + static_cast<int>(i) * (bar + gap);
+    const int height = static_cast<int>((h - bottom - top) * v / top_value);
+    cv::rectangle(img, {x, h - bottom - height}, {x + bar, h - bottom}, kPalette[i % std::size(kPalette)], cv::FILLED);
+    cv::putText(img, fixed(v, v < 10 ? 2 : 0), {x, h - bottom - height - 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                cv::Scalar::all(0));
+    cv::putText(img, summaries[i].config, {x, h - bottom + 18}, cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar::all(0));
+  }
+  cv::line(img, {left - 5, h - bottom}, {img.cols - 5, h - bottom}, cv::Scalar::all(0));
+  return img;
+}
+
+}  // namespace valerant

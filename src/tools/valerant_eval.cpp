@@ -1,0 +1,148 @@
+// valerant_eval: runs an evaluation grid of valerant_explore episodes in parallel
+// processes and reports it.
+//
+//   valerant_eval --maps oa_dm1,oa_dm4 --spawns 3 --configs full,no-rf,oracle,random
+//                 --out DIR [--jobs 2] [--budget 15] [--slam visual|oracle]
+//
+// Resumable: a run whose report.json exists is not redone. Writes DIR/results.csv,
+// DIR/evaluation.md and plots, shows progress (runs done / total, ETA) on stderr and
+// prints one JSON summary line.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "cli_args.h"
+#include "valerant/config/config.h"
+#include "valerant/eval/eval_report.h"
+
+using namespace valerant;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// Starts valerant_explore for one run with its log in the run directory.
+pid_t launch(const std::string& explore, const EvalRun& run, const std::vector<std::string>& args) {
+  fs::create_directories(run.dir);
+  const pid_t pid = fork();
+  if (pid < 0) throw InputError("fork", "cannot start a run process");
+  if (pid == 0) {
+    const std::string log = run.dir + "/explore.log";
+    if (!freopen(log.c_str(), "w", stderr) || !freopen((run.dir + "/summary.json").c_str(), "w", stdout)) _exit(126);
+    std::vector<char*> argv = {const_cast<char*>(explore.c_str())};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(explore.c_str(), argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+EvalResult readResult(const EvalRun& run) {
+  EvalResult r;
+  r.run = run;
+  std::ifstream in(run.dir + "/report.json");
+  if (!in) {
+    r.error = "no report.json (see " + run.dir + "/explore.log)";
+    return r;
+  }
+  try {
+    in >> r.report;
+    r.ok = true;
+  } catch (const std::exception& e) {
+    r.error = std::string("unreadable report.json: ") + e.what();
+  }
+  return r;
+}
+
+std::string formatSeconds(double s) {
+  std::ostringstream out;
+  out << static_cast<int>(s) / 60 << "m" << static_cast<int>(s) % 60 << "s";
+  return out.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    tools::CliArgs args(argc, argv, {"--maps", "--spawns", "--configs", "--out", "--jobs", "--budget", "--slam", "--config"});
+    const Config config = loadConfig(args.get("--config", defaultConfigPath()));
+    const std::string out = args.required("--out");
+    const std::vector<std::string> configs = splitList(args.get("--configs", "full"));
+    const auto runs = makeEvalGrid(splitList(args.required("--maps")), static_cast<int>(args.integer("--spawns", 1)),
+                                   configs, out);
+    const int jobs = static_cast<int>(args.integer("--jobs", 2));
+    if (jobs < 1) throw InputError("--jobs", "must be >= 1");
+    const int budget = static_cast<int>(args.integer("--budget", config.policy.budget_steps));
+    const std::string slam = args.get("--slam", config.slam.backend);
+    const std::string explore = (fs::read_symlink("/proc/self/exe").parent_path() / "valerant_explore").string();
+    if (!fs::exists(explore)) throw InputError(explore, "valerant_explore is not built next to valerant_eval");
+
+    std::vector<const EvalRun*> todo;
+    for (const auto& r : runs)
+      if (!fs::exists(r.dir + "/report.json")) todo.push_back(&r);  // resumable
+    std::cerr << "valerant_eval: " << runs.size() << " runs, " << runs.size() - todo.size() << " done already, "
+              << jobs << " at a time\n";
+    const auto start = std::chrono::steady_clock::now();
+    std::map<pid_t, const EvalRun*> running;
+    size_t next = 0, finished = 0;
+    while (finished < todo.size()) {
+      while (running.size() < static_cast<size_t>(jobs) && next < todo.size()) {
+        const EvalRun* r = todo[next++];
+        running[launch(explore, *r, exploreArguments(*r, slam, budget))] = r;
+      }
+      int status = 0;
+      const pid_t pid = wait(&status);
+      if (pid < 0) break;
+      const EvalRun* r = running[pid];
+      running.erase(pid);
+      ++finished;
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double eta = elapsed / finished * (todo.size() - finished);
+      std::cerr << "[" << finished << "/" << todo.size() << "] " << r->map << " spawn " << r->spawn << " " << r->config
+                << (WIFEXITED(status) && WEXITSTATUS(status) == 0 ? " ok" : " FAILED") << "  elapsed "
+                << formatSeconds(elapsed) << ", ETA " << formatSeconds(eta) << "\n";
+    }
+
+    std::vector<EvalResult> results;
+    for (const auto& r : runs) results.push_back(readResult(r));
+    const auto summaries = summarise(results, configs);
+    writeResultsCsv(out + "/results.csv", results);
+    std::string command = "scripts/run valerant_eval";
+    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+    std::ofstream(out + "/evaluation.md") << markdownReport(summaries, results, command, "");
+    cv::imwrite(out + "/coverage_by_step.png", plotCoverageCurves(summaries));
+    cv::imwrite(out + "/penetrations.png",
+                plotBars(summaries, &ConfigSummary::penetrations, "penetrating committed frames per run"));
+    cv::imwrite(out + "/coverage_per_clean_step.png",
+                plotBars(summaries, &ConfigSummary::observed_m2_per_clean_step,
+                         "reachable m2 observed per penetration-free step"));
+    nlohmann::json summary = {{"tool", "valerant_eval"}, {"runs", runs.size()}, {"out", out}};
+    int failed = 0;
+    for (const auto& r : results) failed += !r.ok;
+    summary["failed"] = failed;
+    for (const auto& s : summaries)
+      summary["configs"][s.config] = {{"observed_percent", s.observed_percent}, {"penetrations", s.penetrations},
+                                      {"rewinds", s.rewinds}};
+    summary["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::cout << summary.dump() << std::endl;
+    return failed ? 1 : 0;
+  } catch (const std::exception& e) {
+    std::cerr << "valerant_eval: error: " << e.what() << std::endl;
+    return 1;
+  }
+}
