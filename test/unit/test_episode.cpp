@@ -1,0 +1,84 @@
+// The exploration loop end to end on a real map with the oracle SLAM at a small
+// resolution: deterministic decisions, consistent bookkeeping, and a rewind that
+// restores world, SLAM and map to the anchor and grows the failed-region memory.
+#include <gtest/gtest.h>
+
+#include "openarena_data.h"
+#include "valerant/explore/episode.h"
+#include "valerant/explore/episode_json.h"
+#include "valerant/slam/oracle_slam.h"
+#include "valerant/world/quake3/quake3_world.h"
+
+using namespace valerant;
+
+namespace {
+
+Config smallConfig(int budget) {
+  Config c;
+  c.world.width = 96;
+  c.world.height = 72;
+  c.policy.budget_steps = budget;
+  c.slam.backend = "oracle";
+  return c;
+}
+
+std::vector<std::string> runDecisions(const Config& config) {
+  auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  std::vector<std::string> decisions;
+  episode.runUntilDone([&](const StepRecord& r) { decisions.push_back(toJson(r)["chosen"]); });
+  return decisions;
+}
+
+}  // namespace
+
+TEST(Episode, SameSeedSameDecisionsAndConsistentBookkeeping) {
+  VALERANT_REQUIRE_OPENARENA();
+  const Config config = smallConfig(3);
+  auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  episode.runUntilDone(nullptr);
+  EXPECT_EQ(episode.committedSteps(), 3);
+  EXPECT_TRUE(episode.finished());
+  // One pose per committed frame: the context frame plus every committed rollout frame.
+  size_t frames = 1;
+  for (const auto& r : episode.history())
+    if (r.chosen >= 0) frames += r.candidates[r.chosen].truth.size();
+  EXPECT_EQ(episode.trajectory().size(), frames);
+  EXPECT_EQ(episode.truth().size(), frames);
+  EXPECT_GT(episode.map().pointCount(), 1000u);
+  for (const auto& r : episode.history()) EXPECT_EQ(r.candidates.size(), 5u);
+  // The oracle map frame is the BSP frame in metres: the last pose is the world's camera.
+  EXPECT_TRUE(episode.trajectory().back().translation().isApprox(
+      world.kinematics().cameraToWorld(world.camera()).translation() / 32.0, 1e-9));
+  EXPECT_EQ(runDecisions(config), runDecisions(config));
+}
+
+TEST(Episode, RewindRestoresTheAnchorAndMarksFailedCells) {
+  VALERANT_REQUIRE_OPENARENA();
+  Config config = smallConfig(6);
+  config.dead_pocket.rotation_only_steps = 1;  // every rotation-only step is a "pocket"
+  config.policy.kind = "forward";               // uw while admissible, then rotations
+  auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  size_t before_translation = 0;
+  bool rewound = false;
+  while (!episode.finished() && !rewound) {
+    const size_t frames_before = episode.trajectory().size();
+    const StepRecord r = episode.step();
+    if (r.chosen >= 0 && !r.candidates[r.chosen].verdict.rotation_only) before_translation = frames_before;
+    if (r.rewind) {
+      rewound = true;
+      EXPECT_EQ(episode.trajectory().size(), before_translation);  // back before the last translation
+      EXPECT_FALSE(episode.failed().cells().empty());
+      EXPECT_EQ(episode.rewinds(), 1);
+      // World and SLAM agree again: the world's camera is the trajectory's last pose.
+      EXPECT_TRUE(episode.trajectory().back().translation().isApprox(
+          world.kinematics().cameraToWorld(world.camera()).translation() / 32.0, 1e-9));
+    }
+  }
+  EXPECT_TRUE(rewound) << "no rotation-only commit in " << episode.history().size() << " steps";
+}
