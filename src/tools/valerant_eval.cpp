@@ -2,7 +2,7 @@
 // processes and reports it.
 //
 //   valerant_eval --maps oa_dm1,oa_dm4 --spawns 3 --configs full,no-rf,oracle,random
-//                 --out DIR [--jobs 2] [--budget 15] [--slam visual|oracle]
+//                 --out DIR [--jobs 2] [--budget 15] [--slam visual|oracle] [--config FILE]
 //
 // Resumable: a run whose report.json exists is not redone. Writes DIR/results.csv,
 // DIR/evaluation.md and plots, shows progress (runs done / total, ETA) on stderr and
@@ -103,7 +103,9 @@ int main(int argc, char** argv) {
     while (finished < todo.size()) {
       while (running.size() < static_cast<size_t>(jobs) && next < todo.size()) {
         const EvalRun* r = todo[next++];
-        running[launch(explore, *r, exploreArguments(*r, slam, budget))] = r;
+        std::vector<std::string> explore_args = exploreArguments(*r, slam, budget);
+        if (args.has("--config")) explore_args.insert(explore_args.end(), {"--config", args.get("--config")});
+        running[launch(explore, *r, explore_args)] = r;
       }
       int status = 0;
       const pid_t pid = wait(&status);
