@@ -3,6 +3,7 @@
 //
 //   valerant_eval --maps oa_dm1,oa_dm4 --spawns 3 --configs full,no-rf,oracle,random
 //                 --out DIR [--jobs 2] [--budget 15] [--slam visual|oracle] [--config FILE]
+//                 [--report-only]   (report the finished runs, start none)
 //
 // Resumable: a run whose report.json exists is not redone. Writes DIR/results.csv,
 // DIR/evaluation.md and plots, shows progress (runs done / total, ETA) on stderr and
@@ -79,7 +80,8 @@ std::string formatSeconds(double s) {
 
 int main(int argc, char** argv) {
   try {
-    tools::CliArgs args(argc, argv, {"--maps", "--spawns", "--configs", "--out", "--jobs", "--budget", "--slam", "--config"});
+    tools::CliArgs args(argc, argv, {"--maps", "--spawns", "--configs", "--out", "--jobs", "--budget", "--slam", "--config"},
+                        {"--report-only"});
     const Config config = loadConfig(args.get("--config", defaultConfigPath()));
     const std::string out = args.required("--out");
     const std::vector<std::string> configs = splitList(args.get("--configs", "full"));
@@ -94,7 +96,7 @@ int main(int argc, char** argv) {
 
     std::vector<const EvalRun*> todo;
     for (const auto& r : runs)
-      if (!fs::exists(r.dir + "/report.json")) todo.push_back(&r);  // resumable
+      if (!fs::exists(r.dir + "/report.json") && !args.has("--report-only")) todo.push_back(&r);  // resumable
     std::cerr << "valerant_eval: " << runs.size() << " runs, " << runs.size() - todo.size() << " done already, "
               << jobs << " at a time\n";
     const auto start = std::chrono::steady_clock::now();

@@ -57,15 +57,15 @@ TEST(VisualTwoView, RecoversPoseAndStructureUpToScale) {
   const auto points = scenePoints(200, 1);
   const Eigen::Isometry3d b_pose = movedCamera();
   cv::setRNGSeed(1);
-  const auto result = initializeTwoView(pixels(points, Eigen::Isometry3d::Identity(), 0.3, 2),
-                                        pixels(points, b_pose, 0.3, 3), kCamera, TwoViewParams{});
+  const auto result = initializeTwoView(pixels(points, Eigen::Isometry3d::Identity(), 0.1, 2),
+                                        pixels(points, b_pose, 0.1, 3), kCamera, TwoViewParams{});
   ASSERT_TRUE(result && result->ready);
   EXPECT_LT(angleDeg(result->b_to_a.linear(), b_pose.linear()), 0.2);
   EXPECT_NEAR(result->b_to_a.translation().norm(), 1.0, 1e-9);
   const double scale = b_pose.translation().norm();
   EXPECT_GT(result->b_to_a.translation().dot(b_pose.translation() / scale), 0.999);
   ASSERT_GT(result->points.size(), 150u);
-  // 0.3 px noise over a few degrees of parallax: a few percent of depth per point.
+  // 0.1 px noise over a few degrees of parallax: about a percent of depth per point.
   std::vector<double> errors;
   for (size_t j = 0; j < result->points.size(); ++j) {
     const Eigen::Vector3d& truth = points[result->indices[j]];

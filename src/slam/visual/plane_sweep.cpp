@@ -23,16 +23,23 @@ Eigen::Matrix3d planeHomography(const Eigen::Matrix3d& kk, const Eigen::Isometry
 // by cv::warpPerspective with the homography at infinity K R K^-1), on a canvas padded
 // by `margin` pixels. For the plane z = 1 / rho of the reference, reference pixel x then
 // samples it at (x + rho e_xy) / (1 + rho e_z) with e = K R^T t: per plane a uniform
-// scale about the epipole, constant along each row in y. Outside the source the canvas
-// holds a value far from any normalised grey level, which truncation turns into the
-// maximum cost.
+// scale about the epipole, constant along each row in y.
 struct CompensatedSource {
   cv::Mat canvas;  // CV_32F
   Eigen::Vector3d epipole;
   int margin = 0;
 };
 
+// Canvas value outside the source, far from any normalised grey level (locally
+// normalised images stay within a few units). Interpolation, cubic ringing included,
+// spreads it into neighbours: any difference above kImplausible marks the sample as
+// touching the outside.
 constexpr float kOutside = -1e4f;
+constexpr float kImplausible = 100.f;
+// Cost of a sample outside a source. A pixel whose window holds one is not scored for
+// that plane at all: a fixed penalty would make the planes that keep it inside the
+// source look better than the rest, a confident false depth.
+constexpr float kInvalid = 1e5f;
 
 CompensatedSource compensate(const SweepView& source, const Eigen::Matrix3d& kk, const Eigen::Isometry3d& ref_to_src,
                              const cv::Size& size, int margin) {
@@ -46,19 +53,20 @@ CompensatedSource compensate(const SweepView& source, const Eigen::Matrix3d& kk,
   for (int r = 0; r < 3; ++r)
     for (int col = 0; col < 3; ++col) h(r, col) = m(r, col);
   cv::warpPerspective(source.image, c.canvas, h, cv::Size(size.width + 2 * margin, size.height + 2 * margin),
-                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(kOutside));
+                      cv::INTER_CUBIC | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(kOutside));
   return c;
 }
 
-// Adds min(|ref - source(plane rho)|, truncation) to `sum` for every reference pixel,
-// by linear interpolation of a vertically blended canvas row. Written by hand: no
+// Adds min(|ref - source(plane rho)|, truncation) to `sum` for every reference pixel
+// (kInvalid outside the source), by linear interpolation of a vertically blended
+// canvas row. Written by hand: no
 // OpenCV call samples a per-plane affine map and takes the truncated difference in one
 // pass, and these samples (planes x sources x pixels) are most of the frame's budget.
 void addPlaneDifference(const cv::Mat& ref, const CompensatedSource& src, double rho, float truncation,
                         cv::Mat& sum, std::vector<float>& row) {
   const double w = 1.0 + rho * src.epipole.z();
   if (w <= 1e-6) {  // the plane is behind the source camera
-    sum += truncation;
+    sum += kInvalid;
     return;
   }
   const float scale = static_cast<float>(1.0 / w);
@@ -72,7 +80,7 @@ void addPlaneDifference(const cv::Mat& ref, const CompensatedSource& src, double
     float* out = sum.ptr<float>(y);
     const float v = scale * static_cast<float>(y) + shift_y;
     if (!(v >= 0 && v < max_v)) {
-      for (int x = 0; x < ref.cols; ++x) out[x] += truncation;
+      for (int x = 0; x < ref.cols; ++x) out[x] += kInvalid;
       continue;
     }
     const int v0 = static_cast<int>(v);
@@ -86,7 +94,8 @@ void addPlaneDifference(const cv::Mat& ref, const CompensatedSource& src, double
       const int u0 = in ? static_cast<int>(u) : 0;
       const float fx = u - static_cast<float>(u0);
       const float value = row[u0] + fx * (row[u0 + 1] - row[u0]);
-      out[x] += in ? std::min(std::abs(r[x] - value), truncation) : truncation;
+      const float d = std::abs(r[x] - value);
+      out[x] += in && d < kImplausible ? std::min(d, truncation) : kInvalid;
     }
   }
 }
@@ -100,10 +109,11 @@ class CurveTracker {
       : c1_(pixels, kInf), left_(pixels, kInf), right_(pixels, kInf), before_(pixels, kInf), after_(pixels, kInf),
         lag_min_(pixels, kInf), prev1_(pixels, kInf), prev2_(pixels, kInf), prev3_(pixels, kInf), best_(pixels, 0) {}
 
-  void add(int plane, const float* cost) {
+  // Costs of `invalid` or more are not scored (see kInvalid).
+  void add(int plane, const float* cost, float invalid) {
     const size_t n = c1_.size();
     for (size_t p = 0; p < n; ++p) {
-      const float c = cost[p];
+      const float c = cost[p] < invalid ? cost[p] : kInf;
       const float lag = std::min(lag_min_[p], prev3_[p]);  // min of planes 0 .. plane-3
       const bool better = c < c1_[p];
       const int best = best_[p];
@@ -194,7 +204,7 @@ SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& 
     for (const CompensatedSource& c : compensated)
       addPlaneDifference(reference.image, c, i * rho_step, truncation, sum, row);
     cv::boxFilter(sum, cost, CV_32F, window, cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
-    curve.add(i, cost.ptr<float>(0));
+    curve.add(i, cost.ptr<float>(0), kInvalid / static_cast<float>(params.window_px * params.window_px));
   }
 
   SweepDepth out;
@@ -206,15 +216,16 @@ SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& 
   float* confidence = out.confidence.ptr<float>(0);
   for (size_t p = 0; p < static_cast<size_t>(size.area()); ++p) {
     const int best = curve.best(p);
-    if (best == 0) continue;  // at infinity: no finite depth
-    const double c1 = curve.bestCost(p), a = curve.before(p), b = curve.after(p);
+    const double c1 = curve.bestCost(p), c2 = curve.rivalCost(p), a = curve.before(p), b = curve.after(p);
+    if (best == 0 || !std::isfinite(c1)) continue;  // at infinity, or never inside every source
     double offset = 0;
-    if (std::isfinite(b)) {
+    if (std::isfinite(a) && std::isfinite(b)) {
       const double curvature = a + b - 2.0 * c1;
       if (curvature > 0) offset = std::clamp(0.5 * (a - b) / curvature, -0.5, 0.5);
     }
     depth[p] = static_cast<float>(1.0 / ((best + offset) * rho_step));
-    const double ratio = (curve.rivalCost(p) + noise) / (c1 + noise);
+    // Without a scored rival the depth is unsupported, not certain.
+    const double ratio = std::isfinite(c2) ? (c2 + noise) / (c1 + noise) : 1.0;
     confidence[p] = static_cast<float>(std::min(params.max_confidence, 1.0 + params.confidence_gain * std::log(ratio)));
   }
   return out;

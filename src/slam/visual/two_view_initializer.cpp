@@ -14,7 +14,7 @@ std::optional<TwoViewResult> initializeTwoView(const std::vector<cv::Point2f>& a
   if (static_cast<int>(a.size()) < params.min_points) return std::nullopt;
   const cv::Matx33d kk = cameraMatrix(k);
   cv::Mat mask;
-  const cv::Mat e = cv::findEssentialMat(a, b, kk, cv::RANSAC, 0.999, params.ransac_threshold_px, mask);
+  const cv::Mat e = cv::findEssentialMat(a, b, kk, cv::USAC_ACCURATE, 0.999, params.ransac_threshold_px, mask);
   if (e.rows != 3 || e.cols != 3) return std::nullopt;  // several solutions stacked = degenerate
   cv::Mat r, t;
   // recoverPose keeps, of the four decompositions, the one with most points in front

@@ -100,6 +100,7 @@ TrackedFrame VisualSlam::track(const SlamInput& input) {
     frame.new_keyframe->confidence = out.confidence.clone();
   }
   if (!out.keyframe) s.tracker.detect(frame.gray, -1);
+  s.rotating = out.rotation_only;
 
   FramePose record;
   record.keyframe = s.map.keyframes.empty() ? -1 : static_cast<int>(s.map.keyframes.size()) - 1;
@@ -155,12 +156,11 @@ bool VisualSlam::trackMapped(Frame& frame, TrackedFrame& out) {
   frame.pose = pnp->camera_to_map;
   updateSceneDepth(frame.pose, inlier_ids);
 
-  // Rotation only: the camera centre moved less than a sliver of the scene depth over
-  // the last few frames. Its translation is then noise: hold the position.
-  const int window = params_.keyframe.rotation_window;
-  const int back = std::max(0, n - window);
-  const double moved = (frame.pose.translation() - framePose(back).translation()).norm() / s.median_depth;
-  out.rotation_only = moved < params_.keyframe.rotation_only_ratio * (n - back) / window;
+  // Rotation only: the camera centre moved less than a sliver of the scene depth since
+  // the last frame. Its translation is then noise: hold the position. The threshold
+  // doubles while already turning, so that noise does not flicker the flag.
+  const double moved = (frame.pose.translation() - framePose(n - 1).translation()).norm() / s.median_depth;
+  out.rotation_only = moved < params_.keyframe.rotation_only_ratio * (s.rotating ? 2.0 : 1.0);
   if (out.rotation_only) frame.pose.translation() = framePose(n - 1).translation();
   out.state = TrackingState::kTracking;
 
@@ -398,10 +398,27 @@ void VisualSlam::bundleAdjust(Frame& frame) {
   std::set<int> free;
   for (int k = first; k < n; ++k)
     if (poses.count(k)) free.insert(k);
-  // Two fixed keyframes pin the gauge, the monocular scale included.
-  for (int k = first; k < n && poses.size() - free.size() < 2; ++k) free.erase(k);
+  // A fixed keyframe pins position and orientation. Unless a second fixed one observes
+  // these points (after the first few keyframes), the monocular scale is free: it is
+  // then restored afterwards, by scaling about the fixed keyframe so that the oldest
+  // free keyframe keeps its distance to it (reprojection errors do not change).
+  if (free.size() == poses.size()) free.erase(free.begin());
+  const bool scale_free = poses.size() - free.size() < 2 && !free.empty();
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
+  double distance = 0;
+  if (scale_free) {
+    for (const auto& [k, pose] : poses)
+      if (!free.count(k)) anchor = pose.translation();
+    distance = (poses.at(*free.begin()).translation() - anchor).norm();
+  }
 
-  const auto result = visual::localBundleAdjustment(poses, free, points, intrinsics_, params_.bundle_adjustment);
+  auto result = visual::localBundleAdjustment(poses, free, points, intrinsics_, params_.bundle_adjustment);
+  if (scale_free) {
+    const double after = (result.poses.at(*free.begin()).translation() - anchor).norm();
+    const double scale = after > 0 ? distance / after : 1.0;
+    for (auto& [k, pose] : result.poses) pose.translation() = anchor + scale * (pose.translation() - anchor);
+    for (auto& [id, position] : result.points) position = anchor + scale * (position - anchor);
+  }
   for (const auto& [k, pose] : result.poses) {
     auto kf = std::make_shared<visual::Keyframe>(*s.map.keyframes[k]);
     kf->camera_to_map = pose;
@@ -428,13 +445,25 @@ void VisualSlam::denseDepth(const Frame& frame, TrackedFrame& out) const {
   out.depth = unknown(size, std::numeric_limits<float>::quiet_NaN());
   out.confidence = unknown(size, 0.f);
   if (out.state == TrackingState::kLost) return;
+  // Co-visibility: how many of the map points tracked in this frame each keyframe saw.
+  // A keyframe that shares few of them looks at other surfaces (or from behind a
+  // ledge) and would only add false matches.
+  std::map<int, int> shared;
+  int tracked = 0;
+  for (const Track& t : s.tracker.tracks()) {
+    if (t.point < 0 || !s.map.points[t.point]) continue;
+    ++tracked;
+    for (const Observation& o : s.map.points[t.point]->observations) ++shared[o.keyframe];
+  }
+  const int min_shared = std::max(params_.sweep.min_shared_points,
+                                  static_cast<int>(std::ceil(params_.sweep.min_shared_ratio * tracked)));
   const Eigen::Vector3d centre = frame.pose.translation(), axis = frame.pose.linear().col(2);
   const double min_cos = std::cos(params_.sweep.max_view_angle_deg * M_PI / 180.0);
   std::vector<visual::SweepView> sources;
-  for (int k = static_cast<int>(s.map.keyframes.size()) - 1;
-       k >= 0 && static_cast<int>(sources.size()) < params_.sweep.sources; --k) {
-    const visual::Keyframe& kf = *s.map.keyframes[k];
-    if (kf.images->frame == frame.index) continue;
+  for (auto it = shared.rbegin(); it != shared.rend() && static_cast<int>(sources.size()) < params_.sweep.sources;
+       ++it) {
+    const visual::Keyframe& kf = *s.map.keyframes[it->first];
+    if (kf.images->frame == frame.index || it->second < min_shared) continue;
     const double baseline = (kf.camera_to_map.translation() - centre).norm() / s.median_depth;
     if (baseline < params_.sweep.min_baseline_ratio || baseline > params_.sweep.max_baseline_ratio) continue;
     if (kf.camera_to_map.linear().col(2).dot(axis) < min_cos) continue;

@@ -78,6 +78,7 @@ class VisualSlam : public Slam {
     std::vector<PendingFrame> pending;
     std::vector<FramePose> frames;
     cv::Mat prev_rgb, prev_sweep;
+    bool rotating = false;          // the last frame was rotation only
     int keyframe_frame = 0;         // frame of the newest keyframe
     int inliers_at_keyframe = 0;
     double median_depth = 1.0;      // of the map points seen last (map units)

@@ -11,9 +11,9 @@ struct FeatureTrackerParams {
   int redetect_below = 300;         // detect new corners when fewer tracks survive
   double corner_quality = 0.003;    // goodFeaturesToTrack qualityLevel (lightmapped walls are dim)
   int min_distance_px = 8;          // spacing of corners, keeps PnP and BA well spread
-  int window_px = 15;               // KLT window
-  int pyramid_levels = 3;           // KLT pyramid (level 3 = 1/8 size) covers fast yaw
-  int iterations = 20;              // KLT iterations per level
+  int window_px = 11;               // KLT window
+  int pyramid_levels = 3;           // KLT pyramid (level 3 = 1/8 size) covers fast yaw and drops
+  int iterations = 10;              // KLT iterations per level (a quarter of the frame time at 20)
   double max_forward_backward_px = 0.7;  // forward-backward disagreement that drops a track
 };
 
@@ -39,10 +39,10 @@ struct KeyframeParams {
   int max_interval = 6;                // frames; keeps the plane-sweep baseline short
   double min_tracked_ratio = 0.7;      // new keyframe when tracked map points fall below this share
   double min_baseline_ratio = 0.02;    // baseline / median scene depth needed for a keyframe
-  // Camera displacement over `rotation_window` frames, relative to the median scene depth,
-  // below which a frame is rotation only (its translation is then held fixed).
+  // Camera displacement since the last frame, relative to the median scene depth, below
+  // which a frame is rotation only (its translation is then held fixed). A forward step
+  // (d_fwd / 57) is about 0.03.
   double rotation_only_ratio = 0.006;
-  int rotation_window = 3;
   int min_tracks = 20;                 // fewer surviving tracks = tracking lost
 };
 
@@ -67,8 +67,10 @@ struct PlaneSweepParams {
   double min_baseline_ratio = 0.04;   // source baseline / median scene depth, at least ...
   double max_baseline_ratio = 0.3;    // ... and at most (wider: occlusions, a drop down a ledge)
   double max_view_angle_deg = 50;     // source optical axis within this angle of the frame's
+  double min_shared_ratio = 0.3;      // source saw at least this share of the frame's tracked map points
+  int min_shared_points = 10;         // ... and at least this many
   double near_fraction = 0.4;         // nearest plane at this fraction of the 2nd-percentile point depth
-  double confidence_gain = 6.0;       // see plane_sweep.h for the confidence mapping
+  double confidence_gain = 9.0;       // see plane_sweep.h: the 4.0 cut = rival 1.4x the best cost
   double max_confidence = 20.0;
 };
 
