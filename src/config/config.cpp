@@ -215,6 +215,26 @@ Config parseConfig(const std::string& yaml_text, const std::string& source) {
   slam.number("cloud_stride_px", c.slam.cloud_stride_px, 1, 64);
   slam.number("oracle_confidence", c.slam.oracle_confidence, 0.0, 1e6);
   slam.finish();
+  Section exports = top.child("exports");
+  exports.number("units_per_metre", c.exports.units_per_metre, 1e-6, 1e6);
+  exports.number("mesh_radius_voxels", c.exports.mesh_radius_voxels, 1.0, 100.0);
+  exports.number("mesh_mu", c.exports.mesh_mu, 1.0, 100.0);
+  exports.number("mesh_max_neighbours", c.exports.mesh_max_neighbours, 3, 10000);
+  exports.number("mesh_max_surface_angle_deg", c.exports.mesh_max_surface_angle_deg, 0.0, 180.0);
+  exports.number("mesh_min_angle_deg", c.exports.mesh_min_angle_deg, 0.0, 60.0);
+  exports.number("mesh_max_angle_deg", c.exports.mesh_max_angle_deg, 60.0, 180.0);
+  exports.number("normal_neighbours", c.exports.normal_neighbours, 3, 10000);
+  exports.number("walkable_cell_fraction", c.exports.walkable_cell_fraction, 0.01, 10.0);
+  exports.number("walkable_min_area_m2", c.exports.walkable_min_area_m2, 0.0, 1e6);
+  exports.number("walkable_close_cells", c.exports.walkable_close_cells, 0, 100);
+  exports.number("render_width", c.exports.render_width, 16, 8192);
+  exports.number("render_height", c.exports.render_height, 16, 8192);
+  exports.number("orbit_views", c.exports.orbit_views, 1, 360);
+  exports.number("orbit_elevation_deg", c.exports.orbit_elevation_deg, 0.0, 90.0);
+  exports.number("orbit_fov_deg", c.exports.orbit_fov_deg, 1.0, 170.0);
+  exports.number("render_cut_eye_heights", c.exports.render_cut_eye_heights, 0.0, 1e3);
+  exports.number("overview_pixels_per_metre", c.exports.overview_pixels_per_metre, 0.1, 1000.0);
+  exports.finish();
   top.finish();
   if (c.collision.height_low >= c.collision.height_high)
     throw InputError(source, "collision.height_low: must be below collision.height_high");

@@ -61,11 +61,26 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   const TrajectoryError ate = trajectoryError(
       std::vector<Eigen::Isometry3d>(episode.trajectory().begin(), episode.trajectory().begin() + n), truth_metres);
   t.aligned = ate.aligned;
-  if (!t.aligned) return t;
-  t.map_to_world_metres = ate.alignment;
-  t.alignment_scale = ate.alignment.scale;
-  t.alignment_rmse_m = ate.ate_rmse;
-  t.ate_percent = ate.ate_percent;
+  if (t.aligned) {
+    t.map_to_world_metres = ate.alignment;
+    t.alignment_rmse_m = ate.ate_rmse;
+    t.ate_percent = ate.ate_percent;
+  } else {
+    // Fused keyframes exist only where a floor was known, and the grid re-anchors on the
+    // first reliable floor, so with a non-empty map kappa_0 is a measured floor distance.
+    const double kappa = episode.anchorEyeHeight();
+    if (episode.map().keyframes().empty() || !(kappa > 0) || !std::isfinite(kappa)) return t;
+    const Eigen::Isometry3d& estimate0 = episode.trajectory().front();
+    Sim3 floor_tie;
+    floor_tie.scale = episode.config().world.eye_height_units / kUnitsPerMetre / kappa;
+    floor_tie.rotation = truth_metres.front().linear() * estimate0.linear().transpose();
+    floor_tie.translation =
+        truth_metres.front().translation() - floor_tie.scale * (floor_tie.rotation * estimate0.translation());
+    t.floor_aligned = true;
+    t.map_to_world_metres = floor_tie;
+  }
+  t.alignment_scale = t.map_to_world_metres.scale;
+  const Sim3& map_to_world = t.map_to_world_metres;
 
   // Cells each keyframe observes, then their union over growing prefixes of the map.
   const double band = episode.config().collision.height_low;
@@ -74,7 +89,7 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   for (size_t k = 0; k < keyframes.size(); ++k) {
     for (const auto& p : keyframes[k]->points) {
       if (std::abs(p.h) >= band) continue;
-      const Eigen::Vector3d world = ate.alignment.apply(p.position.cast<double>()) * kUnitsPerMetre;
+      const Eigen::Vector3d world = map_to_world.apply(p.position.cast<double>()) * kUnitsPerMetre;
       const Cell2 key = metreCell(world.x(), world.y());
       auto it = reachable_heights.find(key);
       if (it == reachable_heights.end()) continue;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iomanip>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
@@ -24,6 +25,8 @@ std::string fixed(double v, int digits = 1) {
   return s.str();
 }
 
+std::string ratio(double v) { return v < 0 ? "-" : fixed(v, 2); }
+
 }  // namespace
 
 std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, const std::vector<std::string>& configs) {
@@ -32,6 +35,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     ConfigSummary s;
     s.config = config;
     std::vector<int> curve_counts;
+    double predicted = 0, truly = 0, false_rejections = 0, missed = 0;
     for (const auto& r : results) {
       if (r.run.config != config) continue;
       if (!r.ok) {
@@ -48,6 +52,16 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
       s.rewinds += number(r.report, "rewinds");
       s.false_rejections += number(g, "false_rejections");
       s.missed_collisions += number(g, "missed_collisions");
+      predicted += number(g, "predicted_colliding");
+      truly += number(g, "truly_colliding");
+      false_rejections += number(g, "false_rejections");
+      missed += number(g, "missed_collisions");
+      const double steps = number(r.report, "committed_steps");
+      s.committed_steps += steps;
+      s.observed_m2_per_step += steps > 0 ? number(g, "observed_reachable_m2") / steps : 0.0;
+      if (r.report.contains("stage_seconds"))
+        for (const auto& [stage, seconds] : r.report["stage_seconds"].items())
+          if (seconds.is_number()) s.stage_seconds[stage] += seconds.get<double>();
       s.ate_percent += number(g, "ate_percent");
       s.accuracy_median_m += number(g, "accuracy_median_m");
       s.completeness_percent += number(g, "completeness_percent");
@@ -69,9 +83,13 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     if (s.runs > 0) {
       for (double* v : {&s.observed_percent, &s.observed_m2, &s.observed_m2_per_clean_step, &s.penetrations, &s.rewinds,
                         &s.false_rejections, &s.missed_collisions, &s.ate_percent, &s.accuracy_median_m,
-                        &s.completeness_percent, &s.wall_seconds, &s.frames_per_second})
+                        &s.completeness_percent, &s.wall_seconds, &s.frames_per_second, &s.committed_steps,
+                        &s.observed_m2_per_step})
         *v /= s.runs;
+      for (auto& [stage, seconds] : s.stage_seconds) seconds /= s.runs;
     }
+    if (predicted > 0) s.verdict_precision = (predicted - false_rejections) / predicted;
+    if (truly > 0) s.verdict_recall = (truly - missed) / truly;
     for (size_t i = 0; i < s.observed_by_step.size(); ++i) s.observed_by_step[i] /= curve_counts[i];
     out.push_back(s);
   }
@@ -106,32 +124,108 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "none of whose frames entered solid. Penetrations count committed frames whose player hull is inside "
         "solid brushes.\n\n"
      << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | rewinds | "
-        "false rejections | missed collisions | ATE % | accuracy median m | completeness % | s / run | frames/s |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "false rejections | missed collisions | verdict precision | verdict recall | ATE % | accuracy median m | "
+        "completeness % | s / run | frames/s |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : summaries) {
     md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << fixed(s.observed_percent) << " | "
        << fixed(s.observed_m2) << " | " << fixed(s.observed_m2_per_clean_step, 2) << " | " << fixed(s.penetrations)
        << " | " << fixed(s.rewinds, 2) << " | " << fixed(s.false_rejections) << " | " << fixed(s.missed_collisions)
-       << " | " << fixed(s.ate_percent, 2) << " | " << fixed(s.accuracy_median_m, 3) << " | "
+       << " | " << ratio(s.verdict_precision) << " | " << ratio(s.verdict_recall) << " | " << fixed(s.ate_percent, 2) << " | " << fixed(s.accuracy_median_m, 3) << " | "
        << fixed(s.completeness_percent) << " | " << fixed(s.wall_seconds) << " | " << fixed(s.frames_per_second)
        << " |\n";
+  }
+  md << "\nVerdict precision: of the candidates the tests rejected as colliding, the share whose player hull "
+        "really enters solid; recall: of the candidates that really enter solid, the share rejected.\n\n"
+     << "## Findings (against full)\n\n";
+  for (const auto& line : findings(summaries, "full")) md << "- " << line << "\n";
+  md << "\n## Time per run by stage (s, mean)\n\n| config | committed steps | new m2 / step |";
+  std::vector<std::string> stages;
+  for (const auto& s : summaries)
+    for (const auto& [stage, seconds] : s.stage_seconds)
+      if (std::find(stages.begin(), stages.end(), stage) == stages.end()) stages.push_back(stage);
+  for (const auto& stage : stages) md << " " << stage << " |";
+  md << " wall |\n|---|---|---|";
+  for (size_t i = 0; i <= stages.size(); ++i) md << "---|";
+  md << "\n";
+  for (const auto& s : summaries) {
+    md << "| " << s.config << " | " << fixed(s.committed_steps) << " | " << fixed(s.observed_m2_per_step) << " |";
+    for (const auto& stage : stages) {
+      const auto it = s.stage_seconds.find(stage);
+      md << " " << (it == s.stage_seconds.end() ? std::string("-") : fixed(it->second)) << " |";
+    }
+    md << " " << fixed(s.wall_seconds) << " |\n";
   }
   md << "\n![coverage against step](" << plots_prefix << "coverage_by_step.png)\n"
      << "![penetrations](" << plots_prefix << "penetrations.png)\n"
      << "![coverage per clean step](" << plots_prefix << "coverage_per_clean_step.png)\n\n## Runs\n\n"
-     << "| map | spawn | config | reachable observed % | penetrations | rewinds | top-down |\n|---|---|---|---|---|---|---|\n";
+     << "Top-down maps of every run, one sheet per configuration: ";
+  for (const auto& s : summaries) md << "[" << s.config << "](" << plots_prefix << "topdowns_" << s.config << ".png) ";
+  md << "\n\n| map | spawn | config | reachable observed % | m2 | committed steps | penetrations | rewinds |\n"
+        "|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     if (!r.ok) {
       md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | failed: " << r.error
-         << " | | | |\n";
+         << " | | | | |\n";
       continue;
     }
     const auto& g = r.report["ground_truth"];
     md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | "
-       << fixed(number(g, "observed_reachable_percent")) << " | " << number(g, "penetrations") << " | "
-       << number(r.report, "rewinds") << " | " << r.run.dir << "/topdown.png |\n";
+       << fixed(number(g, "observed_reachable_percent")) << " | " << fixed(number(g, "observed_reachable_m2"), 0)
+       << " | " << number(r.report, "committed_steps") << " | " << number(g, "penetrations") << " | "
+       << number(r.report, "rewinds") << " |\n";
   }
   return md.str();
+}
+
+std::vector<std::string> findings(const std::vector<ConfigSummary>& summaries, const std::string& reference) {
+  const auto ref = std::find_if(summaries.begin(), summaries.end(),
+                                [&](const ConfigSummary& s) { return s.config == reference; });
+  if (ref == summaries.end() || ref->runs == 0) return {"no finished runs of " + reference + " to compare with"};
+  std::vector<std::string> out;
+  out.push_back(reference + ": " + fixed(ref->penetrations, 2) + " penetrating committed frames per run" +
+                (ref->penetrations == 0 ? " (none)" : "") + ", " + fixed(ref->observed_m2_per_clean_step, 2) +
+                " m2 of reachable floor per penetration-free step.");
+  for (const auto& s : summaries) {
+    if (s.config == reference) continue;
+    if (s.runs == 0) {
+      out.push_back(s.config + ": no finished runs.");
+      continue;
+    }
+    const bool better_coverage = ref->observed_m2_per_clean_step > s.observed_m2_per_clean_step;
+    std::string line = s.config + ": " + fixed(s.observed_m2_per_clean_step, 2) + " m2 per clean step (" +
+                       reference + (better_coverage ? " is better" : " is NOT better") + "), " +
+                       fixed(s.penetrations, 2) + " penetrations per run (";
+    if (s.penetrations > ref->penetrations) line += "more than " + reference + ")";
+    else if (s.penetrations < ref->penetrations) line += "fewer than " + reference + ")";
+    else line += "as many as " + reference + ")";
+    line += ", " + fixed(s.observed_percent) + "% of reachable floor observed vs " + fixed(ref->observed_percent) + "%.";
+    out.push_back(line);
+  }
+  return out;
+}
+
+cv::Mat topdownSheet(const std::vector<EvalResult>& results, const std::string& config, int thumbnail_px) {
+  std::vector<std::pair<std::string, cv::Mat>> tiles;
+  for (const auto& r : results) {
+    if (r.run.config != config || !r.ok) continue;
+    cv::Mat image = cv::imread(r.run.dir + "/topdown.png");
+    if (image.empty()) continue;
+    const double scale = double(thumbnail_px) / std::max(image.cols, image.rows);
+    cv::resize(image, image, {}, scale, scale, cv::INTER_AREA);
+    tiles.emplace_back(r.run.map + " s" + std::to_string(r.run.spawn), image);
+  }
+  if (tiles.empty()) return {};
+  const int columns = std::min<int>(5, tiles.size()), label = 18;
+  const int rows = (static_cast<int>(tiles.size()) + columns - 1) / columns;
+  cv::Mat sheet(rows * (thumbnail_px + label), columns * thumbnail_px, CV_8UC3, cv::Scalar::all(255));
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    const int x = static_cast<int>(i % columns) * thumbnail_px, y = static_cast<int>(i / columns) * (thumbnail_px + label);
+    const cv::Mat& tile = tiles[i].second;
+    tile.copyTo(sheet(cv::Rect(x, y + label, tile.cols, tile.rows)));
+    cv::putText(sheet, tiles[i].first, {x + 4, y + 13}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar::all(0), 1, cv::LINE_AA);
+  }
+  return sheet;
 }
 
 cv::Mat plotCoverageCurves(const std::vector<ConfigSummary>& summaries) {

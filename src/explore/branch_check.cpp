@@ -1,6 +1,7 @@
 #include "valerant/explore/branch_check.h"
 
 #include <cmath>
+#include <limits>
 
 namespace valerant {
 
@@ -9,12 +10,30 @@ BranchCheck::BranchCheck(const Config& config)
 
 void BranchCheck::add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor) {
   if (frame.state == TrackingState::kLost) lost_ = true;
-  if (keyframe)
-    for (const auto& p : keyframe->points)
-      points_.push_back({p.position.cast<double>(), floor.normalisedHeight(p.position.cast<double>()), p.confidence});
+  if (keyframe) keyframes_.push_back({samples_.size(), keyframe->points});
   samples_.push_back(floor);
-  const double central = frame.depth.empty() ? std::nan("") : centralMeanDepth(frame.depth, config_.center_fraction);
-  depth_samples_.push_back({central, floor, frame.camera_to_map.linear().col(2)});
+  poses_.push_back(frame.camera_to_map);
+  central_depths_.push_back(frame.depth.empty() ? std::nan("")
+                                                : centralMeanDepth(frame.depth, config_.center_fraction));
+}
+
+std::vector<FloorPlane> BranchCheck::floors() const {
+  std::vector<FloorPlane> out = samples_;
+  size_t first = 0;
+  while (first < out.size() && !out[first].known) ++first;
+  if (first == out.size()) return out;
+  const FloorPlane& f = out[first];
+  const Eigen::Vector3d normal_camera = poses_[first].linear().transpose() * f.n;
+  const double distance = f.cameraHeight();
+  for (size_t i = 0; i < first; ++i) {
+    FloorPlane& p = out[i];
+    p.c = poses_[i].translation();
+    p.n = (poses_[i].linear() * normal_camera).normalized();
+    p.q = p.c - distance * p.n;
+    p.known = true;
+    p.reliable = false;
+  }
+  return out;
 }
 
 BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_only) const {
@@ -22,12 +41,26 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
   v.candidate = candidate;
   v.rotation_only = rotation_only;
   v.slam_lost = lost_;
+  const std::vector<FloorPlane> floors = this->floors();
+  if (floors.empty() || !floors.back().known) {
+    v.floor_unknown = !rotation_only;
+    v.min_near_ratio = std::numeric_limits<double>::infinity();
+    return v;
+  }
   if (config_.pointcloud_enabled) {
-    const PointCloudCollision pc = detectPointCloudCollision(points_, samples_, config_, rotation_only);
+    std::vector<HeightedPoint> points;
+    for (const KeyframePoints& kf : keyframes_)
+      for (const auto& p : kf.points)
+        points.push_back({p.position.cast<double>(), floors[kf.frame].normalisedHeight(p.position.cast<double>()),
+                          p.confidence});
+    const PointCloudCollision pc = detectPointCloudCollision(points, floors, config_, rotation_only);
     v.collision_pc = pc.collision;
     v.occupied_max = pc.occupied_max;
   }
-  const DepthCollision dc = detectDepthCollision(depth_samples_, config_, d_fwd_normalised_);
+  std::vector<DepthSample> depth_samples;
+  for (size_t i = 0; i < floors.size(); ++i)
+    depth_samples.push_back({central_depths_[i], floors[i], poses_[i].linear().col(2)});
+  const DepthCollision dc = detectDepthCollision(depth_samples, config_, d_fwd_normalised_);
   v.min_near_ratio = dc.min_near_ratio;
   if (config_.depth_enabled) v.collision_depth = dc.collision;
   return v;

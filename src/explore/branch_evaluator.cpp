@@ -29,6 +29,7 @@ BranchResult evaluateBranch(Rollout rollout, bool rotation_only, std::unique_ptr
   out.rollout = std::move(rollout);
   BranchCheck check(config);
   Stopwatch watch;
+  std::vector<size_t> keyframe_frames;
   for (size_t i = 0; i < out.rollout.frames.size(); ++i) {
     const FrameTruth* truth = i < out.rollout.truth.size() ? &out.rollout.truth[i] : nullptr;
     TrackedStep step = trackStep(*slam, out.rollout.frames[i], truth);
@@ -40,10 +41,13 @@ BranchResult evaluateBranch(Rollout rollout, bool rotation_only, std::unique_ptr
     out.poses.push_back(step.frame.camera_to_map);
     if (keyframe) {
       out.keyframes.push_back(std::move(*step.keyframe));
-      out.keyframe_floors.push_back(plane);
+      keyframe_frames.push_back(i);
     }
     out.seconds.collision += watch.lap();
   }
+  // Keyframes made before the branch's first floor get it back-filled (BranchCheck).
+  const std::vector<FloorPlane> floors = check.floors();
+  for (size_t i : keyframe_frames) out.keyframe_floors.push_back(floors[i]);
   out.verdict = check.finish(out.rollout.candidate, rotation_only);
   out.seconds.collision += watch.lap();
   out.floor_reliable = floor.hasReliable();

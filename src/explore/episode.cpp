@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "valerant/common/error.h"
 #include "valerant/explore/local_branch_pipeline.h"
 
 namespace valerant {
@@ -41,7 +42,8 @@ Episode::Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline
       rewinder_(config.dead_pocket) {
   const Rollout context = world_.context();
   const BranchResult start = pipeline_.start(context);
-  for (size_t i = 0; i < start.keyframes.size(); ++i) map_.fuse(start.keyframes[i], start.keyframe_floors[i]);
+  if (start.poses.empty()) throw InputError("world model context", "no frame was tracked (empty context)");
+  fuseKnown(start);
   trajectory_ = start.poses;
   truth_.assign(context.truth.begin(), context.truth.begin() + std::min(context.truth.size(), start.poses.size()));
   anchorGrid(start.floor_reliable);
@@ -60,6 +62,18 @@ void Episode::anchorGrid(bool reliable_floor) {
   for (const auto& kf : map_.keyframes())
     for (const auto& p : kf->points)
       if (std::abs(p.h) < config_.collision.height_low) grid_->markObservedFloor(p.position.cast<double>());
+}
+
+size_t Episode::fuseKnown(const BranchResult& result) {
+  // A keyframe without a known floor has no heights: fusing it would mark made-up
+  // floor and obstacles in the map and the coverage grid.
+  size_t fused = 0;
+  for (size_t i = 0; i < result.keyframes.size(); ++i) {
+    if (!result.keyframe_floors[i].known) continue;
+    map_.fuse(result.keyframes[i], result.keyframe_floors[i]);
+    ++fused;
+  }
+  return fused;
 }
 
 bool Episode::finished() const {
@@ -134,7 +148,7 @@ StepRecord Episode::step() {
 void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector3d>& centres) {
   world_.commit(chosen.rollout);
   pipeline_.commit(chosen);
-  for (size_t i = 0; i < chosen.keyframes.size(); ++i) map_.fuse(chosen.keyframes[i], chosen.keyframe_floors[i]);
+  const size_t fused = fuseKnown(chosen);
   trajectory_.insert(trajectory_.end(), chosen.poses.begin(), chosen.poses.end());
   truth_.insert(truth_.end(), chosen.rollout.truth.begin(), chosen.rollout.truth.end());
   ++committed_steps_;
@@ -143,7 +157,7 @@ void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector
     return;
   }
   for (const auto& c : centres) grid_->markVisited(c);
-  for (size_t i = map_.marker() - chosen.keyframes.size(); i < map_.marker(); ++i)
+  for (size_t i = map_.marker() - fused; i < map_.marker(); ++i)
     for (const auto& p : map_.keyframes()[i]->points)
       if (std::abs(p.h) < config_.collision.height_low) grid_->markObservedFloor(p.position.cast<double>());
 }

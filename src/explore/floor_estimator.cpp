@@ -84,6 +84,7 @@ FloorPlane FloorEstimator::at(const Eigen::Isometry3d& camera_to_map) const {
   }
   plane.n = (camera_to_map.linear() * relation_normal_camera_).normalized();
   plane.q = plane.c - relation_distance_ * plane.n;
+  plane.known = has_relation_;
   return plane;
 }
 

@@ -24,6 +24,7 @@ int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& confi
     v.score = config.lambda_cov * v.coverage + config.lambda_prog * v.progress;
     std::string reason;
     if (v.slam_lost) reason += "slam lost;";
+    if (v.floor_unknown) reason += "floor unknown;";
     if (v.collision_pc) reason += "point-cloud collision;";
     if (v.collision_depth) reason += "depth collision;";
     if (v.enters_failed) reason += "enters failed region;";

@@ -11,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "valerant/common/error.h"
+#include "valerant/common/output_file.h"
 
 namespace valerant {
 namespace {
@@ -32,14 +33,6 @@ POINT_CLOUD_REGISTER_POINT_STRUCT(valerant::PointXYZRGBConfidence,
 namespace valerant {
 namespace {
 
-void checkWritable(const std::string& path, bool overwrite) {
-  if (!overwrite && std::filesystem::exists(path))
-    throw InputError(path, "exists already (pass --force to overwrite)");
-  const auto parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty() && !std::filesystem::is_directory(parent))
-    throw InputError(path, "its folder does not exist");
-}
-
 pcl::PointCloud<PointXYZRGBConfidence> toPcl(const std::vector<FusedPoint>& points) {
   pcl::PointCloud<PointXYZRGBConfidence> cloud;
   cloud.reserve(points.size());
@@ -56,26 +49,26 @@ pcl::PointCloud<PointXYZRGBConfidence> toPcl(const std::vector<FusedPoint>& poin
 }  // namespace
 
 void writeCloudPly(const std::string& path, const std::vector<FusedPoint>& points, bool overwrite) {
-  checkWritable(path, overwrite);
+  requireWritable(path, overwrite);
   if (points.empty()) throw InputError(path, "refusing to write an empty point cloud");
   if (pcl::io::savePLYFileBinary(path, toPcl(points)) != 0) throw InputError(path, "PCL could not write the PLY");
 }
 
 void writeCloudPcd(const std::string& path, const std::vector<FusedPoint>& points, bool overwrite) {
-  checkWritable(path, overwrite);
+  requireWritable(path, overwrite);
   if (points.empty()) throw InputError(path, "refusing to write an empty point cloud");
   if (pcl::io::savePCDFileBinary(path, toPcl(points)) != 0) throw InputError(path, "PCL could not write the PCD");
 }
 
 void writeOctreeBt(const std::string& path, octomap::ColorOcTree& tree, bool overwrite) {
-  checkWritable(path, overwrite);
+  requireWritable(path, overwrite);
   if (!tree.writeBinary(path)) throw InputError(path, "OctoMap could not write the .bt file");
 }
 
 void writeFloorGrid(const std::string& stem, const FloorGrid& grid, bool overwrite) {
   const std::string pgm = stem + ".pgm", yaml = stem + ".yaml";
-  checkWritable(pgm, overwrite);
-  checkWritable(yaml, overwrite);
+  requireWritable(pgm, overwrite);
+  requireWritable(yaml, overwrite);
   cv::Mat image(grid.height, grid.width, CV_8UC1);
   for (int row = 0; row < grid.height; ++row) {
     for (int col = 0; col < grid.width; ++col) {

@@ -1,10 +1,10 @@
 #include "valerant/map/map_fusion.h"
 
 #include <octomap/ColorOcTree.h>
-#include <pcl/filters/voxel_grid.h>
-#include <pcl/point_types.h>
-
+#include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <unordered_map>
 
 namespace valerant {
 
@@ -34,47 +34,53 @@ size_t MapFusion::pointCount() const {
 }
 
 std::vector<FusedPoint> MapFusion::voxelCloud(double voxel_size) const {
-  pcl::PointCloud<pcl::PointXYZ>::Ptr all(new pcl::PointCloud<pcl::PointXYZ>);
-  std::vector<const FusedPoint*> source;
-  all->reserve(pointCount());
+  // Written by hand, not pcl::VoxelGrid: PCL indexes voxels with 32-bit integers over the
+  // cloud's bounding box and gives up (empty output, no leaf layout) when a few far
+  // points of a drifting monocular map make that box too large for the leaf; a hash of
+  // 64-bit voxel keys has no such limit. Voxels come out in order of first appearance,
+  // so the output is deterministic.
+  struct Voxel {
+    Eigen::Matrix<int64_t, 3, 1> key;
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    Eigen::Vector4d colour_confidence = Eigen::Vector4d::Zero();
+    double h = 0;
+    int count = 0;
+  };
+  struct KeyHash {
+    size_t operator()(const Eigen::Matrix<int64_t, 3, 1>& k) const {
+      return std::hash<int64_t>()(k.x() * 73856093LL ^ k.y() * 19349663LL ^ k.z() * 83492791LL);
+    }
+  };
+  std::unordered_map<Eigen::Matrix<int64_t, 3, 1>, size_t, KeyHash> index;
+  const float inverse_leaf = static_cast<float>(1.0 / voxel_size);
+  std::vector<Voxel> voxels;
   for (const auto& kf : keyframes_) {
     for (const auto& p : kf->points) {
-      all->push_back(pcl::PointXYZ(p.position.x(), p.position.y(), p.position.z()));
-      source.push_back(&p);
+      const Eigen::Vector3d x = p.position.cast<double>();
+      // Binned in float like PCL, so points on voxel borders fall the same way.
+      const Eigen::Matrix<int64_t, 3, 1> key = (p.position * inverse_leaf).array().floor().cast<int64_t>();
+      const auto [it, added] = index.try_emplace(key, voxels.size());
+      if (added) voxels.emplace_back().key = key;
+      Voxel& v = voxels[it->second];
+      v.position += x;
+      v.colour_confidence += Eigen::Vector4d(p.rgb[0], p.rgb[1], p.rgb[2], p.confidence);
+      v.h += p.h;
+      ++v.count;
     }
   }
+  std::sort(voxels.begin(), voxels.end(), [](const Voxel& a, const Voxel& b) {
+    return std::tie(a.key.z(), a.key.y(), a.key.x()) < std::tie(b.key.z(), b.key.y(), b.key.x());
+  });
   std::vector<FusedPoint> out;
-  if (all->empty()) return out;
-  // PCL picks the voxels and their centroids; colour, confidence and height are
-  // averaged per voxel here through its leaf layout (VoxelGrid only averages the
-  // fields of PCL's own point types).
-  pcl::PointCloud<pcl::PointXYZ> centroids;
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setInputCloud(all);
-  grid.setLeafSize(voxel_size, voxel_size, voxel_size);
-  grid.setSaveLeafLayout(true);
-  grid.filter(centroids);
-  std::vector<Eigen::Vector4d> colour_confidence(centroids.size(), Eigen::Vector4d::Zero());
-  std::vector<double> heights(centroids.size(), 0.0);
-  std::vector<int> counts(centroids.size(), 0);
-  for (size_t i = 0; i < all->size(); ++i) {
-    const int v = grid.getCentroidIndex((*all)[i]);
-    if (v < 0) continue;
-    const FusedPoint& p = *source[i];
-    colour_confidence[v] += Eigen::Vector4d(p.rgb[0], p.rgb[1], p.rgb[2], p.confidence);
-    heights[v] += p.h;
-    ++counts[v];
-  }
-  out.reserve(centroids.size());
-  for (size_t v = 0; v < centroids.size(); ++v) {
-    if (counts[v] == 0) continue;
-    const Eigen::Vector4d mean = colour_confidence[v] / counts[v];
+  out.reserve(voxels.size());
+  for (const Voxel& v : voxels) {
+    const Eigen::Vector4d mean = v.colour_confidence / v.count;
     FusedPoint p;
-    p.position = centroids[v].getVector3fMap();
+    p.position = (v.position / v.count).cast<float>();
     p.rgb = {static_cast<uint8_t>(std::lround(mean[0])), static_cast<uint8_t>(std::lround(mean[1])),
              static_cast<uint8_t>(std::lround(mean[2]))};
     p.confidence = static_cast<float>(mean[3]);
-    p.h = static_cast<float>(heights[v] / counts[v]);
+    p.h = static_cast<float>(v.h / v.count);
     out.push_back(p);
   }
   return out;

@@ -3,8 +3,10 @@
 // options are errors, so a typo never silently runs with defaults.
 #include <map>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "valerant/common/error.h"
 
@@ -45,6 +47,18 @@ class CliArgs {
     } catch (const std::exception&) {
     }
     throw InputError(key + " " + get(key), "is not an integer");
+  }
+
+ // A comma-separated value ("uw,jw,lw"); empty items are dropped and an option that
+  // names nothing is an error.
+  std::vector<std::string> list(const std::string& key, const std::string& fallback) const {
+    const std::string text = get(key, fallback);
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+      if (!item.empty()) out.push_back(item);
+    if (out.empty()) throw InputError(key + " '" + text + "'", "names nothing");
+    return out;
   }
 
  private:

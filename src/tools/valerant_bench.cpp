@@ -1,74 +1,34 @@
 // valerant_bench: speed and memory figures, one JSON line per run on stdout.
 //
 //   valerant_bench render --map oa_dm1 [--frames 1000] [--spawn 0] [--config FILE]
-//     frames/s of colour + depth rendering along committed candidate rollouts
-//     (uw, jq, lw, ... in turn), plus the process's peak resident memory.
-#include <sys/resource.h>
-
-#include <chrono>
+//     frames/s of colour + depth rendering, peak memory (bench/bench_render.cpp)
+//   valerant_bench slam --map oa_dm1 [--spawn 0] [--candidates uw,jw,lw,jq,lq]
+//                       [--slam visual|oracle] [--repeats 3] [--config FILE]
+//     SLAM frames/s per branch on one core and snapshot+restore cost (bench/bench_slam.cpp)
+//   valerant_bench graph --map oa_dm1 [--spawn 0] [--seed 0] [--slam oracle] [--budget 5]
+//                        [--config FILE] --out DIR
+//     one episode in process and through the ROS node graph: wall-time ratio and
+//     whether the decisions agree (bench/bench_graph.cpp)
 #include <iostream>
-#include <nlohmann/json.hpp>
 
-#include "cli_args.h"
-#include "valerant/world/quake3/quake3_world.h"
+#include "bench/bench.h"
+#include "valerant/common/error.h"
 
 using namespace valerant;
 
-namespace {
-
-double peakResidentMiB() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024.0;  // Linux reports KiB
-}
-
-nlohmann::json benchRender(int argc, char** argv) {
-  tools::CliArgs args(argc, argv, {"--map", "--frames", "--spawn", "--config"});
-  Config config = loadConfig(args.get("--config", defaultConfigPath()));
-  config.world.map = args.get("--map", config.world.map);
-  config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
-  const long frames = args.integer("--frames", 1000);
-  if (frames < 1) throw InputError("--frames", "must be >= 1");
-
-  const auto load_start = std::chrono::steady_clock::now();
-  auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
-  quake3::Quake3World world(map, config);
-  const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
-
-  // A varied path: forward, rotations and turns in turn, each committed.
-  const std::vector<std::string> cycle = {"uw", "jq", "lw", "lq", "jw"};
-  long rendered = 0;
-  const auto start = std::chrono::steady_clock::now();
-  for (size_t i = 0; rendered < frames; ++i) {
-    ActionSequence seq = makeActionSequence(cycle[i % cycle.size()], config);
-    if (static_cast<long>(seq.steps.size()) > frames - rendered) seq.steps.resize(frames - rendered);
-    const Rollout r = world.rollout(seq);
-    world.commit(r);
-    rendered += static_cast<long>(r.frames.size());
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return {{"bench", "render"},
-          {"map", config.world.map},
-          {"width", config.world.width},
-          {"height", config.world.height},
-          {"frames", rendered},
-          {"seconds", seconds},
-          {"load_seconds", load_s},
-          {"frames_per_second", rendered / seconds},
-          {"peak_rss_mib", peakResidentMiB()}};
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   try {
-    if (argc < 2) throw InputError("valerant_bench", "usage: valerant_bench render [options]");
+    if (argc < 2) throw InputError("valerant_bench", "usage: valerant_bench render|slam|graph [options]");
     const std::string what = argv[1];
     nlohmann::json result;
     if (what == "render") {
-      result = benchRender(argc - 1, argv + 1);
+      result = tools::benchRender(argc - 1, argv + 1);
+    } else if (what == "slam") {
+      result = tools::benchSlam(argc - 1, argv + 1);
+    } else if (what == "graph") {
+      result = tools::benchGraph(argc - 1, argv + 1);
     } else {
-      throw InputError("valerant_bench " + what, "unknown benchmark (known: render)");
+      throw InputError("valerant_bench " + what, "unknown benchmark (known: render, slam, graph)");
     }
     std::cout << result.dump() << std::endl;
     return 0;

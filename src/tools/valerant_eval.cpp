@@ -4,6 +4,8 @@
 //   valerant_eval --maps oa_dm1,oa_dm4 --spawns 3 --configs full,no-rf,oracle,random
 //                 --out DIR [--jobs 2] [--budget 15] [--slam visual|oracle] [--config FILE]
 //                 [--report-only]   (report the finished runs, start none)
+//                 [--publish docs/evaluation.md]  (also write the report there, its images in
+//                                                   docs/evaluation/, for committing)
 //
 // Resumable: a run whose report.json exists is not redone. Writes DIR/results.csv,
 // DIR/evaluation.md and plots, shows progress (runs done / total, ETA) on stderr and
@@ -19,6 +21,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "child_process.h"
 #include "cli_args.h"
 #include "valerant/config/config.h"
 #include "valerant/eval/eval_report.h"
@@ -27,31 +30,6 @@ using namespace valerant;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
-// Starts valerant_explore for one run with its log in the run directory.
-pid_t launch(const std::string& explore, const EvalRun& run, const std::vector<std::string>& args) {
-  fs::create_directories(run.dir);
-  const pid_t pid = fork();
-  if (pid < 0) throw InputError("fork", "cannot start a run process");
-  if (pid == 0) {
-    const std::string log = run.dir + "/explore.log";
-    if (!freopen(log.c_str(), "w", stderr) || !freopen((run.dir + "/summary.json").c_str(), "w", stdout)) _exit(126);
-    std::vector<char*> argv = {const_cast<char*>(explore.c_str())};
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(explore.c_str(), argv.data());
-    _exit(127);
-  }
-  return pid;
-}
 
 EvalResult readResult(const EvalRun& run) {
   EvalResult r;
@@ -70,6 +48,21 @@ EvalResult readResult(const EvalRun& run) {
   return r;
 }
 
+constexpr int kThumbnailPixels = 200;  // top-down sheet tiles: 15 runs make a 1000 x 654 px sheet
+
+// The markdown report at `md_path` and its images in `image_folder` beside it.
+void writeReport(const std::string& md_path, const std::string& image_folder, const std::string& markdown,
+                 const std::map<std::string, cv::Mat>& images) {
+  const fs::path dir = fs::path(md_path).parent_path() / image_folder;
+  if (!dir.empty()) fs::create_directories(dir);
+  std::ofstream md(md_path);
+  md << markdown;
+  if (!md) throw InputError(md_path, "cannot write the report");
+  for (const auto& [name, image] : images)
+    if (!image.empty() && !cv::imwrite((dir / name).string(), image))
+      throw InputError((dir / name).string(), "cannot write the image");
+}
+
 std::string formatSeconds(double s) {
   std::ostringstream out;
   out << static_cast<int>(s) / 60 << "m" << static_cast<int>(s) % 60 << "s";
@@ -80,12 +73,13 @@ std::string formatSeconds(double s) {
 
 int main(int argc, char** argv) {
   try {
-    tools::CliArgs args(argc, argv, {"--maps", "--spawns", "--configs", "--out", "--jobs", "--budget", "--slam", "--config"},
+    tools::CliArgs args(argc, argv, {"--maps", "--spawns", "--configs", "--out", "--jobs", "--budget", "--slam", "--config",
+                         "--publish"},
                         {"--report-only"});
     const Config config = loadConfig(args.get("--config", defaultConfigPath()));
     const std::string out = args.required("--out");
-    const std::vector<std::string> configs = splitList(args.get("--configs", "full"));
-    const auto runs = makeEvalGrid(splitList(args.required("--maps")), static_cast<int>(args.integer("--spawns", 1)),
+    const std::vector<std::string> configs = args.list("--configs", "full");
+    const auto runs = makeEvalGrid(args.list("--maps", args.required("--maps")), static_cast<int>(args.integer("--spawns", 1)),
                                    configs, out);
     const int jobs = static_cast<int>(args.integer("--jobs", 2));
     if (jobs < 1) throw InputError("--jobs", "must be >= 1");
@@ -107,7 +101,9 @@ int main(int argc, char** argv) {
         const EvalRun* r = todo[next++];
         std::vector<std::string> explore_args = exploreArguments(*r, slam, budget);
         if (args.has("--config")) explore_args.insert(explore_args.end(), {"--config", args.get("--config")});
-        running[launch(explore, *r, explore_args)] = r;
+        explore_args.insert(explore_args.begin(), explore);
+        fs::create_directories(r->dir);
+        running[tools::startChild(explore_args, r->dir + "/summary.json", r->dir + "/explore.log")] = r;
       }
       int status = 0;
       const pid_t pid = wait(&status);
@@ -128,13 +124,19 @@ int main(int argc, char** argv) {
     writeResultsCsv(out + "/results.csv", results);
     std::string command = "scripts/run valerant_eval";
     for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
-    std::ofstream(out + "/evaluation.md") << markdownReport(summaries, results, command, "");
-    cv::imwrite(out + "/coverage_by_step.png", plotCoverageCurves(summaries));
-    cv::imwrite(out + "/penetrations.png",
-                plotBars(summaries, &ConfigSummary::penetrations, "penetrating committed frames per run"));
-    cv::imwrite(out + "/coverage_per_clean_step.png",
-                plotBars(summaries, &ConfigSummary::observed_m2_per_clean_step,
-                         "reachable m2 observed per penetration-free step"));
+    std::map<std::string, cv::Mat> images = {
+        {"coverage_by_step.png", plotCoverageCurves(summaries)},
+        {"penetrations.png", plotBars(summaries, &ConfigSummary::penetrations, "penetrating committed frames per run")},
+        {"coverage_per_clean_step.png", plotBars(summaries, &ConfigSummary::observed_m2_per_clean_step,
+                                                 "reachable m2 observed per penetration-free step")}};
+    for (const auto& c : configs) images["topdowns_" + c + ".png"] = topdownSheet(results, c, kThumbnailPixels);
+    writeReport(out + "/evaluation.md", "", markdownReport(summaries, results, command, ""), images);
+    if (args.has("--publish")) {
+      // The committed copy: images beside it in a folder named after it, links relative.
+      const fs::path md = args.get("--publish");
+      const std::string folder = md.stem().string();
+      writeReport(md.string(), folder, markdownReport(summaries, results, command, folder + "/"), images);
+    }
     nlohmann::json summary = {{"tool", "valerant_eval"}, {"runs", runs.size()}, {"out", out}};
     int failed = 0;
     for (const auto& r : results) failed += !r.ok;

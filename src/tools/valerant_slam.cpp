@@ -9,21 +9,18 @@
 //
 //   valerant_slam --map oa_dm1 [--spawn 0] [--candidates uw,jw,lw,jq,lq]
 //                 [--slam visual|oracle] [--config FILE] --out DIR
-#include <chrono>
-#include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
 
 #include "cli_args.h"
+#include "thread_clock.h"
 #include "valerant/common/tum_trajectory.h"
 #include "valerant/eval/trajectory_metrics.h"
 #include "valerant/map/map_exports.h"
 #include "valerant/slam/slam_factory.h"
-#include "valerant/slam/visual/visual_slam.h"
 #include "valerant/world/quake3/quake3_world.h"
 
 using namespace valerant;
@@ -33,37 +30,7 @@ namespace {
 
 constexpr double kUnitsPerMetre = 32.0;  // DESIGN.md section 6
 
-// Wall and CPU time of this thread: on a shared or virtual machine the CPU time is the
-// cost of the algorithm, the wall time what a user waits.
-struct Clock {
-  double wall = 0, cpu = 0;
-  static Clock now() {
-    timespec t;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return {std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(),
-            static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec)};
-  }
-  Clock operator-(const Clock& o) const { return {wall - o.wall, cpu - o.cpu}; }
-  Clock& operator+=(const Clock& o) {
-    wall += o.wall, cpu += o.cpu;
-    return *this;
-  }
-};
-
-std::vector<std::string> splitCandidates(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ','))
-    if (!item.empty()) out.push_back(item);
-  if (out.empty()) throw InputError("--candidates '" + list + "'", "names no candidate");
-  return out;
-}
-
-std::unique_ptr<Slam> makeBackend(const std::string& backend, const CameraIntrinsics& k, const Config& config) {
-  if (backend == "visual") return std::make_unique<VisualSlam>(k, config.slam);
-  return makeSlam(backend, k, config);
-}
+using Clock = tools::ThreadClock;
 
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
@@ -175,13 +142,13 @@ int main(int argc, char** argv) {
     const std::string backend = args.get("--slam", config.slam.backend);
     const std::string out = args.required("--out");
     std::vector<ActionSequence> sequences;  // validated before any rendering
-    for (const auto& c : splitCandidates(args.get("--candidates", "uw,jw,lw,jq,lq")))
+    for (const auto& c : args.list("--candidates", "uw,jw,lw,jq,lq"))
       sequences.push_back(makeActionSequence(c, config));
     cv::setNumThreads(1);
 
     auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
     quake3::Quake3World world(map, config);
-    auto slam = makeBackend(backend, world.intrinsics(), config);
+    auto slam = makeSlam(backend, world.intrinsics(), config);
     std::cerr << "valerant_slam: " << backend << " SLAM on " << config.world.map << " spawn " << config.world.spawn
               << ", " << sequences.size() << " candidates\n";
     fs::create_directories(out);

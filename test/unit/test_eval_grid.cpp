@@ -56,3 +56,44 @@ TEST(EvalReport, MeansPerConfiguration) {
   EXPECT_NE(md.find("| full | 2 | 0 | 25.0 |"), std::string::npos);
   EXPECT_NE(md.find("failed: no report.json"), std::string::npos);
 }
+
+TEST(EvalReport, VerdictQualityStagesAndFindings) {
+  // Run A: 4 rejected candidates of which 1 was free (3 true), 5 truly colliding of which
+  // 2 were let through. Run B: 2 rejected, both right; 1 truly colliding, caught.
+  // Micro average: precision (6 - 1) / 6 = 5/6, recall (6 - 2) / 6 = 2/3.
+  auto result = [](const std::string& config, double predicted, double truly, double false_rejections, double missed,
+                   double slam_seconds, double observed_m2, double clean_steps, double penetrations) {
+    EvalResult r;
+    r.run = {"m", 0, config, "/o"};
+    r.ok = true;
+    r.report = {{"committed_steps", 10},
+                {"stage_seconds", {{"slam", slam_seconds}, {"render", 1.0}}},
+                {"ground_truth",
+                 {{"predicted_colliding", predicted},
+                  {"truly_colliding", truly},
+                  {"false_rejections", false_rejections},
+                  {"missed_collisions", missed},
+                  {"observed_reachable_m2", observed_m2},
+                  {"penetration_free_steps", clean_steps},
+                  {"penetrations", penetrations}}}};
+    return r;
+  };
+  const std::vector<EvalResult> results = {result("full", 4, 5, 1, 2, 30, 100, 10, 0),
+                                           result("full", 2, 1, 0, 0, 10, 60, 10, 0),
+                                           result("random", 0, 0, 0, 0, 20, 120, 4, 7)};
+  const auto s = summarise(results, {"full", "random"});
+  EXPECT_DOUBLE_EQ(s[0].verdict_precision, 5.0 / 6);
+  EXPECT_DOUBLE_EQ(s[0].verdict_recall, 4.0 / 6);
+  EXPECT_DOUBLE_EQ(s[1].verdict_precision, -1);  // nothing rejected: undefined, not 0
+  EXPECT_DOUBLE_EQ(s[0].stage_seconds.at("slam"), 20.0);
+  EXPECT_DOUBLE_EQ(s[0].observed_m2_per_step, (10.0 + 6.0) / 2);
+  // full: (100/10 + 60/10) / 2 = 8 m2 per clean step; random: 120 / 4 = 30 with 7 penetrations.
+  const auto lines = findings(s, "full");
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_NE(lines[0].find("(none)"), std::string::npos);
+  EXPECT_NE(lines[1].find("30.00 m2 per clean step (full is NOT better)"), std::string::npos);
+  EXPECT_NE(lines[1].find("more than full"), std::string::npos);
+  const std::string md = markdownReport(s, results, "cmd", "img/");
+  EXPECT_NE(md.find("| 0.83 | 0.67 |"), std::string::npos);
+  EXPECT_NE(md.find("(img/topdowns_full.png)"), std::string::npos);
+}

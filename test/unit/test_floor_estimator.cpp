@@ -128,3 +128,14 @@ TEST(FloorEstimator, RejectsASteepPlaneAndTooLittleSupport) {
   for (auto& p : slope) p.confidence = 1;
   EXPECT_EQ(estimator.update(slope, cameraAt({0, 0, 0})).support, 0);
 }
+
+TEST(FloorEstimator, FloorIsUnknownUntilOneIsAccepted) {
+  FloorEstimator robust(rf(true), Eigen::Vector3d::UnitZ(), 4.0);
+  EXPECT_FALSE(robust.at(cameraAt({0, 0, 1})).known);
+  // A wall alone (225 points, vertical) is rejected: still unknown.
+  const DriftingKeyframe wall_only = drifting(0, /*with_floor=*/false);
+  EXPECT_FALSE(robust.update(wall_only.points, wall_only.pose).known);
+  const DriftingKeyframe seen = drifting(0);
+  EXPECT_TRUE(robust.update(seen.points, seen.pose).known);
+  EXPECT_TRUE(robust.at(cameraAt({1, 0, 1})).known);
+}

@@ -152,3 +152,30 @@ TEST(MapExports, NeverOverwritesWithoutForce) {
   EXPECT_NO_THROW(writeCloudPly(dir + "/map.ply", cloud, true));
   EXPECT_THROW(writeCloudPly(dir + "/missing/map.ply", cloud, false), InputError);
 }
+
+TEST(MapFusion, VoxelCloudAveragesAndSurvivesFarPoints) {
+  // Two points in voxel [0, 1)^3 and one a million voxels away along each axis: a
+  // bounding box of 10^18 leaves, far past PCL VoxelGrid's 32-bit voxel indices.
+  KeyframeCloud kf;
+  auto add = [&](Eigen::Vector3f x, uint8_t red, float confidence) {
+    CloudPoint p;
+    p.position = x;
+    p.rgb = {red, 0, 0};
+    p.confidence = confidence;
+    kf.points.push_back(p);
+  };
+  add({0.2f, 0.2f, 0.2f}, 100, 5);
+  add({0.6f, 0.4f, 0.8f}, 200, 7);
+  add({1e6f, 1e6f, 1e6f}, 50, 9);
+  MapFusion map(MapConfig{}, CollisionConfig{});
+  map.fuse(kf, flatFloor());
+  const auto cloud = map.voxelCloud(1.0);
+  ASSERT_EQ(cloud.size(), 2u);
+  // First voxel: centroid (0.4, 0.3, 0.5), red (100 + 200) / 2 = 150, confidence 6,
+  // h = mean height over the floor z = 0 with the camera 1 above = 0.5.
+  EXPECT_TRUE(cloud[0].position.isApprox(Eigen::Vector3f(0.4f, 0.3f, 0.5f), 1e-6f));
+  EXPECT_EQ(cloud[0].rgb[0], 150);
+  EXPECT_FLOAT_EQ(cloud[0].confidence, 6.0f);
+  EXPECT_FLOAT_EQ(cloud[0].h, 0.5f);
+  EXPECT_FLOAT_EQ(cloud[1].position.x(), 1e6f);
+}

@@ -84,3 +84,27 @@ TEST(VisualPlaneSweep, NeedsASource) {
   const CameraIntrinsics k = downsampled(test::BoxRoom::camera(), params.downsample);
   EXPECT_THROW(planeSweep({cv::Mat(k.height, k.width, CV_32F, cv::Scalar(0)), {}}, {}, k, 1.0, params), InputError);
 }
+
+// With near = 0.05 m there are at most 64 planes, so a plane step of at least
+// (1 / 0.05) / 63 = 0.317 per metre: the far wall at 5 m (inverse depth 0.2) sits below
+// plane 0.63 and cannot get its true depth, and nothing beyond 1 / (1.5 * 0.317) = 2.1 m
+// may get one (before, the plane at index 1 +- 0.5 reached 6.3 m).
+TEST(VisualPlaneSweep, DepthsNearInfinityAreUnknown) {
+  const test::BoxRoom room({-2, -1.5, -3}, {3, 1.5, 5});
+  const CameraIntrinsics k = test::BoxRoom::camera();
+  const PlaneSweepParams params;
+  const Eigen::Isometry3d ref = test::BoxRoom::pose({0, 0, 0}, 0), src = test::BoxRoom::pose({0.25, 0.05, -0.2}, 3);
+  const SweepDepth d = planeSweep({prepared(room.render(k, ref).rgb, params), ref},
+                                  {{prepared(room.render(k, src).rgb, params), src}},
+                                  downsampled(k, params.downsample), 0.05, params);
+  const float bound = 63 * 0.05f / 1.5f;
+  int finite = 0;
+  for (int y = 0; y < d.depth.rows; ++y)
+    for (int x = 0; x < d.depth.cols; ++x) {
+      const float z = d.depth.at<float>(y, x);
+      if (!std::isfinite(z)) continue;
+      ++finite;
+      EXPECT_LE(z, bound + 1e-3f);
+    }
+  EXPECT_GT(finite, 0);  // the side walls and floor near the camera still get depth
+}

@@ -93,10 +93,32 @@ struct MapConfig {
   double max_range_eye_heights = 12; // rays longer than this are cut (far, unreliable depth)
 };
 
+// Game-engine exports of a run's map (surface mesh, walkable area, rendered views).
+struct ExportConfig {
+  double units_per_metre = 32;        // game units per metre: the eye height in metres
+  double mesh_radius_voxels = 8;      // longest triangle edge, in voxel leaves
+  double mesh_mu = 2.5;               // edges at most mu x the local point spacing
+  int mesh_max_neighbours = 100;      // neighbours GP3 considers per point
+  double mesh_max_surface_angle_deg = 45;  // normals differing more are not joined
+  double mesh_min_angle_deg = 10;     // triangle angles kept in [min, max]
+  double mesh_max_angle_deg = 120;
+  int normal_neighbours = 16;         // points in a normal's PCA neighbourhood
+  double walkable_cell_fraction = 0.25;  // walkable raster cell, as a fraction of a coverage cell
+  double walkable_min_area_m2 = 1.0;  // smaller walkable islands are dropped
+  int walkable_close_cells = 2;       // unobserved gaps this many cells wide in the floor count as floor
+  int render_width = 640;
+  int render_height = 480;
+  int orbit_views = 8;
+  double orbit_elevation_deg = 40;
+  double orbit_fov_deg = 50;
+  double render_cut_eye_heights = 1.5;  // renders leave out geometry this far above its floor
+  double overview_pixels_per_metre = 16;
+};
+
 struct SlamConfig {
   std::string backend = "visual";  // visual | oracle
   int oracle_keyframe_every = 8;   // oracle: a keyframe every N frames
-  int cloud_stride_px = 4;         // keyframe clouds keep every N-th pixel per axis
+  int cloud_stride_px = 4;         // oracle keyframe clouds keep every N-th pixel per axis
   double oracle_confidence = 10.0; // oracle: constant confidence, above the 4.0 cut
 };
 
@@ -109,6 +131,7 @@ struct Config {
   DeadPocketConfig dead_pocket;
   MapConfig map;
   SlamConfig slam;
+  ExportConfig exports;
 };
 
 // Loads and validates a YAML file; keys left out keep their defaults.

@@ -4,7 +4,10 @@
 // the fused map observed, and how the collision verdicts agree with the in-solid truth.
 //
 // The SLAM map is tied to the BSP frame by a Sim(3) fitted (Umeyama) between the
-// committed camera centres and their ground-truth centres; floor points of the map
+// committed camera centres and their ground-truth centres. A trajectory that never
+// translated (rotations in place only) has no such fit; then the first pose ties the
+// frames (rotation and position) and the floor gives the scale: the anchor's
+// camera-to-floor distance in map units against the engine's eye height. Floor points of the map
 // (|h| < eta_low) then mark 1 m cells. A reachable 1 m cell counts as observed when a
 // floor point falls in it within half a step height of a reachable floor height there.
 #include <Eigen/Geometry>
@@ -26,7 +29,8 @@ struct EpisodeTruth {
   // history entry; a rewound step's value counts the keyframes that replaced its own).
   std::vector<double> observed_percent_by_step;
   bool aligned = false;          // false: the trajectory was too short to fit a Sim(3)
-  Sim3 map_to_world_metres;      // the fitted alignment (identity when not aligned)
+  bool floor_aligned = false;    // not aligned, but tied to the world by the first pose and the floor
+  Sim3 map_to_world_metres;      // the fitted alignment (identity when neither)
   double alignment_scale = 0;    // metres per map unit
   double alignment_rmse_m = 0;   // residual of the camera centres after alignment (ATE)
   double ate_percent = 0;        // ATE as a share of the path length

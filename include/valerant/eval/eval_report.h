@@ -1,9 +1,11 @@
 #pragma once
 // Results of an evaluation grid: one CSV row per run, a markdown report with a table per
-// configuration (means over runs), and plots drawn with OpenCV (coverage against step,
-// penetrations and coverage per penetration-free step by configuration).
+// configuration (means over runs), findings against a reference configuration, and
+// images drawn with OpenCV (coverage against step, penetrations and coverage per
+// penetration-free step by configuration, a sheet of every run's top-down map).
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,11 @@ struct ConfigSummary {
   double observed_percent = 0, observed_m2 = 0, observed_m2_per_clean_step = 0;
   double penetrations = 0, rewinds = 0, false_rejections = 0, missed_collisions = 0;
   double ate_percent = 0, accuracy_median_m = 0, completeness_percent = 0, wall_seconds = 0, frames_per_second = 0;
+  double committed_steps = 0, observed_m2_per_step = 0;  // new reachable area per committed step
+  // Collision verdicts against ground truth ("this candidate would enter solid"), summed
+  // over every verdict of every run before dividing (micro average); -1 when undefined.
+  double verdict_precision = -1, verdict_recall = -1;
+  std::map<std::string, double> stage_seconds;  // mean seconds per run in each stage
   std::vector<double> observed_by_step;  // mean curve
 };
 
@@ -31,6 +38,12 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
 void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& results);
 std::string markdownReport(const std::vector<ConfigSummary>& summaries, const std::vector<EvalResult>& results,
                            const std::string& command, const std::string& plots_prefix);
+// Plain sentences comparing every configuration with `reference` (coverage per clean
+// step, penetrations, coverage), for the report's findings section.
+std::vector<std::string> findings(const std::vector<ConfigSummary>& summaries, const std::string& reference);
+// Every finished run of `config` as a labelled thumbnail of its topdown.png (BGR; empty
+// when no run has one).
+cv::Mat topdownSheet(const std::vector<EvalResult>& results, const std::string& config, int thumbnail_px);
 cv::Mat plotCoverageCurves(const std::vector<ConfigSummary>& summaries);  // BGR
 cv::Mat plotBars(const std::vector<ConfigSummary>& summaries, double ConfigSummary::*value, const std::string& title);
 

@@ -5,6 +5,15 @@
 // (each only when enabled: the COL ablations) and reports SLAM loss. Coverage,
 // progress and the failed-region test need the episode's grid and are added by Episode.
 // Used by the in-process pipeline and by the collision_checker node alike.
+//
+// Floor not yet known (a branch that starts from an uninitialised SLAM, e.g. after the
+// one-frame context or rotation-only commits): no height is read from a made-up floor.
+// Frames before the branch's first accepted floor take that floor's camera-to-floor
+// relation (normal and distance in the camera frame), propagated backwards exactly as
+// RF propagates it forwards; the SLAM has one scale within a branch, so the relation
+// holds there too. A translation whose branch never accepts a floor cannot be judged
+// and is marked floor_unknown (inadmissible); rotations need no floor (eq. 6 exempts
+// them and they do not advance for eq. 7).
 #include <string>
 #include <vector>
 
@@ -22,15 +31,23 @@ class BranchCheck {
   // `keyframe`: the keyframe cloud this frame made (null if none); `floor`: its floor.
   void add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor);
   size_t frames() const { return samples_.size(); }
-  // Collision fields, rotation_only and slam_lost of the candidate's verdict.
+  // The floor of every frame so far, unknown ones filled from the first known one
+  // (all still unknown when no frame has a known floor).
+  std::vector<FloorPlane> floors() const;
+  // Collision fields, rotation_only, slam_lost and floor_unknown of the verdict.
   BranchVerdict finish(const std::string& candidate, bool rotation_only) const;
 
  private:
+  struct KeyframePoints {
+    size_t frame;
+    std::vector<CloudPoint> points;
+  };
   CollisionConfig config_;
   double d_fwd_normalised_;
   std::vector<FloorPlane> samples_;
-  std::vector<DepthSample> depth_samples_;
-  std::vector<HeightedPoint> points_;
+  std::vector<Eigen::Isometry3d> poses_;
+  std::vector<double> central_depths_;
+  std::vector<KeyframePoints> keyframes_;
   bool lost_ = false;
 };
 

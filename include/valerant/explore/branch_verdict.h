@@ -13,6 +13,7 @@ struct BranchVerdict {
   int occupied_max = 0;
   double min_near_ratio = 0;
   bool slam_lost = false;
+  bool floor_unknown = false;  // a translation judged without any reliable floor
   bool enters_failed = false;
   double c_new = 0, c_front = 0, coverage = 0, progress = 0;
   double score = 0;

@@ -83,6 +83,8 @@ class Episode {
   // Uses `pipeline` and `selector` when given, else the owned ones.
   Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline, std::unique_ptr<BranchSelector> own_selector,
           BranchPipeline* pipeline, BranchSelector* selector, const Config& config);
+  // Fuses the keyframes of a result whose floor is known; returns how many.
+  size_t fuseKnown(const BranchResult& result);
   void anchorGrid(bool reliable_floor);
   void commit(const BranchResult& chosen, const std::vector<Eigen::Vector3d>& centres);
   void rewind(const RewindDecision& decision, StepRecord& record);

@@ -27,7 +27,8 @@ class FloorEstimator {
 
   // Estimates the floor of one keyframe.
   FloorPlane update(const std::vector<CloudPoint>& points, const Eigen::Isometry3d& camera_to_map);
-  // The floor at any pose from the current relation (for non-keyframe samples).
+  // The floor at any pose from the current relation (for non-keyframe samples);
+  // `known` is false until a floor has been accepted.
   FloorPlane at(const Eigen::Isometry3d& camera_to_map) const;
 
   bool hasReliable() const { return has_relation_; }

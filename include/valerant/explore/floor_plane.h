@@ -13,6 +13,9 @@ struct FloorPlane {
   Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d c = Eigen::Vector3d::UnitZ();
   bool reliable = false;  // fitted on this keyframe (else propagated)
+  // False while the estimator has never accepted a floor: q and n are then a
+  // placeholder, and no height or camera-to-floor distance may be read from them.
+  bool known = true;
   int support = 0;        // RANSAC inliers of the fit
 
   // kappa: camera-to-floor distance in map units.

@@ -1,7 +1,7 @@
 #pragma once
 // The global map: keyframe clouds of committed branches, each point with its
 // floor-normalised height. Fusion only appends keyframes; a rewind truncates back to a
-// marker. The derived products (voxel-filtered cloud with PCL, OctoMap occupancy by ray
+// marker. The derived products (voxel-averaged cloud, OctoMap occupancy by ray
 // insertion from the keyframe origins, 2D floor/obstacle grid) are rebuilt from the
 // kept keyframes when asked for, so a rewind never leaves stale geometry behind.
 #include <Eigen/Geometry>
@@ -47,12 +47,14 @@ class MapFusion {
 
   // Keeps points with confidence >= min_confidence; `floor` is the keyframe's floor.
   void fuse(const KeyframeCloud& cloud, const FloorPlane& floor);
+  // Appends a keyframe fused elsewhere (a mirror of another process's map).
+  void add(std::shared_ptr<const FusedKeyframe> keyframe) { keyframes_.push_back(std::move(keyframe)); }
   size_t marker() const { return keyframes_.size(); }
   void truncate(size_t marker);
   const std::vector<std::shared_ptr<const FusedKeyframe>>& keyframes() const { return keyframes_; }
   size_t pointCount() const;
 
-  // Voxel-filtered cloud (PCL VoxelGrid, leaf = voxel size); colour and confidence and
+  // Voxel-averaged cloud (cubes of voxel_size, any extent); position, colour, confidence and
   // height averaged per voxel.
   std::vector<FusedPoint> voxelCloud(double voxel_size) const;
   // Occupancy by ray casting from each keyframe's camera centre (OctoMap).

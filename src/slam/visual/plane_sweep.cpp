@@ -223,6 +223,9 @@ SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& 
       const double curvature = a + b - 2.0 * c1;
       if (curvature > 0) offset = std::clamp(0.5 * (a - b) / curvature, -0.5, 0.5);
     }
+    // Too close to infinity to be a measurement: the one-plane bracket spans more
+    // than +-1 / (2 min_plane) of the depth (and such points blow up the map extent).
+    if (best + offset < params.min_plane) continue;
     depth[p] = static_cast<float>(1.0 / ((best + offset) * rho_step));
     // Without a scored rival the depth is unsupported, not certain.
     const double ratio = std::isfinite(c2) ? (c2 + noise) / (c1 + noise) : 1.0;

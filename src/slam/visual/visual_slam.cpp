@@ -12,6 +12,7 @@
 #include "valerant/slam/visual/pinhole.h"
 #include "valerant/slam/visual/plane_sweep.h"
 #include "valerant/slam/visual/pnp_tracker.h"
+#include "valerant/slam/visual/relocalizer.h"
 #include "valerant/slam/visual/rotation_model.h"
 #include "valerant/slam/visual/triangulation.h"
 #include "valerant/slam/visual/two_view_initializer.h"
@@ -89,9 +90,11 @@ TrackedFrame VisualSlam::track(const SlamInput& input) {
     frame.pose = last;
     startReference(frame, last, false);
     out = TrackedFrame();
-    out.state = first && static_cast<int>(s.tracker.tracks().size()) >= params_.keyframe.min_tracks
-                    ? TrackingState::kInitializing
-                    : TrackingState::kLost;
+    if (!s.map.keyframes.empty()) s.relocalizing = true;
+    if (!(s.relocalizing && relocalize(frame, out)))
+      out.state = first && static_cast<int>(s.tracker.tracks().size()) >= params_.keyframe.min_tracks
+                      ? TrackingState::kInitializing
+                      : TrackingState::kLost;
   }
   out.camera_to_map = frame.pose;
   denseDepth(frame, out);
@@ -189,6 +192,8 @@ bool VisualSlam::trackReference(Frame& frame, TrackedFrame& out) {
       return true;
     }
   }
+  // Lost with a map: its keyframes may come back into view.
+  if (s.relocalizing && relocalize(frame, out)) return true;
   std::vector<cv::Point2f> a, b;
   std::vector<size_t> which;
   for (size_t i = 0; i < tracks.size(); ++i) {
@@ -299,6 +304,16 @@ void VisualSlam::initializeMap(Frame& frame, TrackedFrame& out, const visual::Tw
     s.frames[s.reference.frame] = FramePose{ka, Eigen::Isometry3d::Identity()};
   s.tracker.detect(frame.gray, kb, true);
   bundleAdjust(frame);
+  cv::Mat reference_grey;
+  cv::cvtColor(s.reference.rgb, reference_grey, cv::COLOR_RGB2GRAY);
+  std::vector<std::pair<int, cv::Point2f>> seen_a;
+  for (size_t j = 0; j < two_view.indices.size(); ++j) {
+    const Track& t = tracks[which[two_view.indices[j]]];
+    if (t.point >= 0 && s.map.points[t.point]) seen_a.emplace_back(t.point, a[two_view.indices[j]]);
+  }
+  images_a->described = visual::describePoints(reference_grey, seen_a, params_.relocalizer);
+  describeKeyframe(frame);
+  s.relocalizing = false;
   resectPending(ka);
   updateSceneDepth(frame.pose, frame.new_keyframe->points);
   s.keyframe_frame = frame.index;
@@ -379,9 +394,51 @@ void VisualSlam::makeKeyframe(Frame& frame) {
   }
   s.tracker.detect(frame.gray, n, true);
   bundleAdjust(frame);
+  describeKeyframe(frame);
   s.keyframe_frame = frame.index;
   s.inliers_at_keyframe = static_cast<int>(std::count_if(
       tracks.begin(), tracks.end(), [&](const Track& t) { return t.point >= 0 && s.map.points[t.point]; }));
+}
+
+void VisualSlam::describeKeyframe(Frame& frame) {
+  std::vector<std::pair<int, cv::Point2f>> seen;
+  for (const Track& t : state_.tracker.tracks())
+    if (t.point >= 0 && state_.map.points[t.point]) seen.emplace_back(t.point, t.px);
+  frame.new_keyframe->described = visual::describePoints(frame.gray, seen, params_.relocalizer);
+}
+
+bool VisualSlam::relocalize(Frame& frame, TrackedFrame& out) {
+  State& s = state_;
+  auto& tracks = s.tracker.tracks();
+  std::vector<cv::Point2f> corners;
+  for (const Track& t : tracks) corners.push_back(t.px);
+  std::vector<const visual::PointDescriptors*> keyframes;
+  for (int k = static_cast<int>(s.map.keyframes.size()) - 1;
+       k >= 0 && static_cast<int>(keyframes.size()) < params_.relocalizer.keyframes; --k)
+    keyframes.push_back(&s.map.keyframes[k]->images->described);
+  const auto found = visual::relocalize(frame.gray, corners, keyframes, s.map, intrinsics_, params_.relocalizer,
+                                        params_.pnp);
+  if (!found) return false;
+  // Associations made before the loss are not trusted; the matches replace them.
+  for (Track& t : tracks) {
+    t.point = -1;
+    t.anchor = -1;
+    t.referenced = false;
+  }
+  std::vector<int> ids;
+  for (const auto& [corner, id] : found->matches) {
+    tracks[corner].point = id;
+    ids.push_back(id);
+  }
+  frame.pose = found->camera_to_map;
+  updateSceneDepth(frame.pose, ids);
+  s.mode = Mode::kMapped;
+  s.relocalizing = false;
+  s.pending.clear();
+  out.state = TrackingState::kTracking;
+  out.rotation_only = false;
+  out.keyframe = false;
+  return true;
 }
 
 void VisualSlam::bundleAdjust(Frame& frame) {
@@ -539,9 +596,13 @@ std::vector<KeyframeCloud> VisualSlam::keyframeClouds(int first) const {
     cloud.keyframe = kf.index;
     cloud.frame = kf.images->frame;
     cloud.camera_to_map = kf.camera_to_map;
+    // Every depth the plane sweep estimated, once: the sweep runs at 1/downsample
+    // resolution, so a finer stride only repeats values and a coarser one (the oracle's
+    // cloud_stride_px) drops them. The paper's point counts (300 floor inliers, N_occ)
+    // assume MASt3R's pixel-dense clouds; thinning ours further starves the floor fit.
     if (!kf.images->depth.empty())
       cloud.points = backProject(kf.images->rgb, kf.images->depth, kf.images->confidence, intrinsics_,
-                                 kf.camera_to_map, config_.cloud_stride_px);
+                                 kf.camera_to_map, params_.sweep.downsample);
     out.push_back(std::move(cloud));
   }
   return out;

@@ -20,8 +20,9 @@
 // costs at least 1.4x the chosen depth (e^(3/9)). Calibrated on engine rollouts
 // (oa_dm1, oa_dm4, aggressor; forward and turning), after one median scale per run:
 // rival ratio 1.4-1.65 gave AbsRel 0.03-0.09, above 1.65 0.03-0.07, 1.2-1.4 0.08-0.37,
-// and below 1.2 the depth was mostly wrong (0.4-1.6). Pixels whose best plane is the
-// one at infinity, or that no plane scores, get NaN depth and confidence 0.
+// and below 1.2 the depth was mostly wrong (0.4-1.6). Pixels whose best plane (with its
+// sub-plane offset) is closer to infinity than params.min_plane, or that no plane
+// scores, get NaN depth and confidence 0.
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include <vector>

@@ -12,6 +12,12 @@
 
 namespace valerant::visual {
 
+// Descriptors of map points seen in one image.
+struct PointDescriptors {
+  cv::Mat descriptors;      // CV_8U, one row per point
+  std::vector<int> points;  // map point id of each row
+};
+
 struct KeyframeImages {
   int frame = 0;           // index of the tracked frame
   cv::Mat rgb;             // CV_8UC3, full size
@@ -19,6 +25,7 @@ struct KeyframeImages {
   cv::Mat depth;           // CV_32F full size, map units at creation, NaN = unknown
   cv::Mat confidence;      // CV_32F full size
   std::vector<int> points; // map points observed when the keyframe was made
+  PointDescriptors described;  // for relocalisation (relocalizer.h)
 };
 
 struct Keyframe {

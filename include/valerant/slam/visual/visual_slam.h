@@ -11,7 +11,9 @@
 //   3. Keyframes every few frames when the baseline allows: new points triangulated
 //      from each track's first keyframe (triangulation.h), then a Ceres local bundle
 //      adjustment (local_bundle_adjustment.h).
-//   4. Dense depth for every frame by plane sweep against nearby keyframes
+//   4. After a loss, relocalisation against recent keyframes (relocalizer.h) before a
+//      new map is started, so a drop down a ledge keeps the map and its scale.
+//   5. Dense depth for every frame by plane sweep against nearby keyframes
 //      (plane_sweep.h documents the confidence and its 4.0 cut).
 // Scale is arbitrary: the first map has median scene depth 1; a map restarted after a
 // rotation without shared points keeps the last median scene depth (a prior, since
@@ -79,6 +81,7 @@ class VisualSlam : public Slam {
     std::vector<FramePose> frames;
     cv::Mat prev_rgb, prev_sweep;
     bool rotating = false;          // the last frame was rotation only
+    bool relocalizing = false;      // lost since the map was last tracked
     int keyframe_frame = 0;         // frame of the newest keyframe
     int inliers_at_keyframe = 0;
     double median_depth = 1.0;      // of the map points seen last (map units)
@@ -100,6 +103,8 @@ class VisualSlam : public Slam {
                      const std::vector<size_t>& which);
   void resectPending(int reference_keyframe);
   void makeKeyframe(Frame& frame);
+  void describeKeyframe(Frame& frame);
+  bool relocalize(Frame& frame, TrackedFrame& out);
   void bundleAdjust(Frame& frame);
   void denseDepth(const Frame& frame, TrackedFrame& out) const;
   void updateSceneDepth(const Eigen::Isometry3d& pose, const std::vector<int>& point_ids);

@@ -59,6 +59,8 @@ struct PlaneSweepParams {
   double contrast_floor = 2.0;   // 8-bit levels added to the local contrast: flat areas stay flat
   int max_planes = 64;           // inverse-depth hypotheses between 0 and 1/near ...
   int min_planes = 16;
+  double min_plane = 1.5;        // winners below this plane index (from infinity) get no depth: their
+                                 // bracket is wider than +-33 %; on oa_dm1 they reached 130 eye heights
   double plane_step_px = 1.0;    // ... about this much border disparity apart
   int sources = 2;               // nearby keyframes compared with each frame
   int window_px = 5;             // SAD window at sweep resolution
@@ -74,6 +76,14 @@ struct PlaneSweepParams {
   double max_confidence = 20.0;
 };
 
+struct RelocalizerParams {
+  int patch_px = 19;          // ORB patch (the default 31 would drop a 31-pixel border at 320x240)
+  float max_distance = 64;    // Hamming distance of an acceptable match (of 256 bits)
+  float ratio = 0.8f;         // best / second-best distance (Lowe's ratio test)
+  int keyframes = 8;          // newest keyframes searched
+  int min_inliers = 30;       // PnP inliers to accept a relocalisation
+};
+
 struct VisualSlamParams {
   FeatureTrackerParams tracker;
   TwoViewParams two_view;
@@ -81,6 +91,7 @@ struct VisualSlamParams {
   KeyframeParams keyframe;
   BundleAdjustmentParams bundle_adjustment;
   PlaneSweepParams sweep;
+  RelocalizerParams relocalizer;
   uint64_t seed = 0;  // seeds every RANSAC call (together with the frame index)
 };
 

@@ -1,0 +1,23 @@
+#pragma once
+// Everything an episode leaves in its output directory, written by this one function
+// for valerant_explore and for the explorer node alike: every export format
+// (map/run_exports.h: map.ply, map.pcd, map.bt, grid.pgm + grid.yaml, mesh.obj,
+// mesh.glb, walkable.json, overview.png, orbit.png), the map kept for valerant_export
+// (map/run_map.h: keyframes.pcd, keyframes.txt; config.yaml must be saved first with
+// saveRunConfig), trajectory.txt (TUM, SLAM frame), gt_trajectory.txt (TUM, BSP frame,
+// game units), topdown.png and report.json (with the ground-truth figures when the
+// engine map is given). decisions.jsonl is the caller's, written step by step.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "valerant/explore/episode.h"
+#include "valerant/world/quake3/quake3_map.h"
+
+namespace valerant {
+
+// Adds files, statistics and ground truth to `report` and writes it as report.json.
+// `map`: the engine map the episode ran on (null: no ground-truth figures).
+void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, const std::string& out, bool overwrite,
+                         nlohmann::json& report);
+
+}  // namespace valerant

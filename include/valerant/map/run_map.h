@@ -1,0 +1,54 @@
+#pragma once
+// A run's map with everything its exports need, and how it is kept in a run directory
+// so that valerant_export rebuilds it without the episode:
+//   keyframes.pcd   every fused point (binary compressed PCD): x y z rgb confidence,
+//                   h (floor-normalised height) and keyframe (index of its keyframe)
+//   keyframes.txt   keyframe camera poses, map frame (TUM; stamp = keyframe index)
+//   trajectory.txt  committed camera poses, map frame (TUM; written by valerant_explore)
+//   config.yaml     the configuration file the run loaded (command-line switches such
+//                   as --no-rf are in report.json; none of them changes an export)
+//   report.json     "run_map": the map frame (map_frame.h) and the number of keyframes,
+//                   points, trajectory poses and config bytes, so a truncated file is caught
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "valerant/config/config.h"
+#include "valerant/explore/coverage_grid.h"
+#include "valerant/explore/episode.h"
+#include "valerant/map/map_fusion.h"
+#include "valerant/map/map_frame.h"
+
+namespace valerant {
+
+struct RunMap {
+  Config config;
+  MapFusion map;
+  MapFrame frame;
+  std::vector<Eigen::Isometry3d> trajectory;  // committed camera poses, map frame
+  nlohmann::json report;                      // the run's report.json (loaded runs only)
+
+  // The exploration grid of the run, rebuilt from its anchor.
+  CoverageGrid grid() const;
+  // The 2D floor grid of the map over that grid, cells `cell_fraction` of its cell.
+  FloorGrid floorGrid(double cell_fraction) const;
+};
+
+// The map of a finished episode; scaled by the eye height, or 1 for the oracle SLAM
+// whose map is metric (map_frame.h).
+RunMap runMapOf(const Episode& episode);
+
+// Writes keyframes.pcd and keyframes.txt into `dir` (which must hold config.yaml
+// already: saveRunConfig); returns the "run_map" object for report.json. Never
+// overwrites unless asked.
+nlohmann::json saveRunMap(const std::string& dir, const RunMap& run, bool overwrite);
+// Copies the configuration file a run loaded to `dir`/config.yaml (the tool that
+// loaded it knows its path).
+void saveRunConfig(const std::string& dir, const std::string& config_path, bool overwrite);
+
+// Reads a finished run directory. A missing, truncated or inconsistent file throws
+// InputError naming that file.
+RunMap loadRunMap(const std::string& dir);
+
+}  // namespace valerant

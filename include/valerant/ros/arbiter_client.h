@@ -1,0 +1,20 @@
+#pragma once
+// The BranchSelector interface over the policy_arbiter node's select_branch service
+// (which runs selectBranch() with the graph's policy config).
+#include <ros/node_handle.h>
+#include <ros/service_client.h>
+
+#include "valerant/explore/branch_selector.h"
+
+namespace valerant::bridge {
+
+class ArbiterClient : public BranchSelector {
+ public:
+  ArbiterClient(::ros::NodeHandle nh, double connect_timeout_s);
+  int select(std::vector<BranchVerdict>& verdicts, uint64_t step_seed) override;
+
+ private:
+  ::ros::ServiceClient client_;
+};
+
+}  // namespace valerant::bridge

@@ -1,0 +1,27 @@
+#pragma once
+// The one configuration every node of a graph shares. Each node finds the parameter
+// namespace `valerant_config` by searching up from its own namespace (so a graph can be
+// launched under any namespace) and reads:
+//   file                  config YAML (default: config/valerant.yaml of the source tree)
+//   map spawn seed slam backend width height budget policy   overrides of the file
+//   rf col_pc col_depth dp                                      ablation switches (bool)
+// Every node reads the same values, so all of them build the same action sequences,
+// floor estimators and collision tests as valerant_explore with the same flags.
+#include <ros/node_handle.h>
+#include <string>
+
+#include "valerant/config/config.h"
+
+namespace valerant::bridge {
+
+// Throws InputError for a bad file or value.
+Config loadGraphConfig(const ::ros::NodeHandle& nh);
+// The YAML file loadGraphConfig reads (a run directory keeps a copy of it).
+std::string graphConfigFile(const ::ros::NodeHandle& nh);
+
+// A private parameter that must be set (launch files give every one); InputError names it.
+double requiredDouble(const ::ros::NodeHandle& private_nh, const std::string& name);
+int requiredInt(const ::ros::NodeHandle& private_nh, const std::string& name);
+std::string requiredString(const ::ros::NodeHandle& private_nh, const std::string& name);
+
+}  // namespace valerant::bridge

@@ -1,0 +1,112 @@
+#include "valerant/eval/episode_outputs.h"
+
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "valerant/common/error.h"
+#include "valerant/common/tum_trajectory.h"
+#include "valerant/eval/episode_truth.h"
+#include "valerant/eval/map_accuracy.h"
+#include "valerant/explore/episode_json.h"
+#include "valerant/explore/topdown_image.h"
+#include "valerant/map/run_exports.h"
+#include "valerant/map/run_map.h"
+#include "valerant/world/quake3/reachable_floor.h"
+#include "valerant/world/quake3/surface_samples.h"
+
+namespace valerant {
+namespace {
+
+constexpr float kSurfaceSamplesPerSquareMetre = 50;  // 14 cm spacing: accuracy to ~7 cm
+constexpr int kTopdownPixelsPerCell = 16;  // 16 px per metre-sized cell: a 40 m map is ~700 px
+
+nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map, const std::vector<FusedPoint>& cloud) {
+  const Config& config = episode.config();
+  const auto spawn = map.bsp.spawnPoints().at(config.world.spawn);
+  const auto reachable = quake3::floodFillReachableFloor(*map.collision, spawn.origin);
+  const EpisodeTruth truth = evaluateEpisodeTruth(episode, reachable);
+  std::vector<Eigen::Vector3d> map_metres;
+  if (truth.aligned || truth.floor_aligned)
+    for (const auto& p : cloud) map_metres.push_back(truth.map_to_world_metres.apply(p.position.cast<double>()));
+  const MapAccuracy accuracy =
+      mapAccuracy(map_metres, quake3::sampleSurfaces(map.geometry, kSurfaceSamplesPerSquareMetre, config.world.seed),
+                  episode.truth(),
+                  CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg));
+  int penetration_free_steps = 0;  // committed steps none of whose frames entered solid
+  for (const auto& s : episode.history()) {
+    if (s.chosen < 0) continue;
+    bool clean = true;
+    for (const auto& f : s.candidates[s.chosen].truth) clean &= !f.in_solid;
+    penetration_free_steps += clean;
+  }
+  return {{"committed_frames", truth.committed_frames},
+          {"penetrations", truth.penetrating_frames},
+          {"penetration_free_steps", penetration_free_steps},
+          {"reachable_m2", truth.reachable_m2},
+          {"observed_reachable_m2", truth.observed_reachable_m2},
+          {"observed_reachable_percent", truth.observed_reachable_percent},
+          {"aligned", truth.aligned},
+          {"floor_aligned", truth.floor_aligned},
+          {"ate_rmse_m", truth.alignment_rmse_m},
+          {"ate_percent", truth.ate_percent},
+          {"observed_percent_by_step", truth.observed_percent_by_step},
+          {"accuracy_median_m", accuracy.median_m},
+          {"accuracy_p90_m", accuracy.p90_m},
+          {"completeness_percent", accuracy.completeness_percent},
+          {"verdicts", truth.verdicts},
+          {"truly_colliding", truth.truly_colliding},
+          {"predicted_colliding", truth.predicted_colliding},
+          {"false_rejections", truth.false_rejections},
+          {"missed_collisions", truth.missed_collisions}};
+}
+
+}  // namespace
+
+void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, const std::string& out, bool overwrite,
+                         nlohmann::json& report) {
+  const Config& config = episode.config();
+  const std::vector<FusedPoint> cloud =
+      episode.map().voxelCloud(config.map.voxel_eye_heights * episode.anchorEyeHeight());
+  // The map kept for valerant_export, and every export format through the same code.
+  const RunMap run = runMapOf(episode);
+  report["run_map"] = saveRunMap(out, run, overwrite);
+  report["exports"] = exportRunMap(run, exportFormats(), out, overwrite);
+  nlohmann::json files = report["exports"]["files"];
+  files.insert(files.end(), {"keyframes.pcd", "keyframes.txt", "config.yaml"});
+  std::vector<StampedPose> slam_poses, truth_poses;
+  for (size_t i = 0; i < episode.trajectory().size(); ++i) slam_poses.push_back({double(i), episode.trajectory()[i]});
+  for (size_t i = 0; i < episode.truth().size(); ++i) truth_poses.push_back({double(i), episode.truth()[i].camera_to_world});
+  writeTumTrajectory(out + "/trajectory.txt", slam_poses);
+  writeTumTrajectory(out + "/gt_trajectory.txt", truth_poses);
+  cv::Mat topdown = drawTopdown(cloud, episode.grid(), episode.trajectory(), episode.history(), episode.failed(),
+                                config.collision, kTopdownPixelsPerCell);
+  cv::cvtColor(topdown, topdown, cv::COLOR_RGB2BGR);
+  if (!cv::imwrite(out + "/topdown.png", topdown)) throw InputError(out + "/topdown.png", "cannot write image");
+  files.insert(files.end(), {"trajectory.txt", "gt_trajectory.txt", "topdown.png", "decisions.jsonl", "report.json"});
+
+  StageSeconds total;
+  double wall = 0;
+  for (const auto& s : episode.history()) {
+    total += s.seconds;
+    wall += s.wall_seconds;
+  }
+  report["files"] = files;
+  report["committed_steps"] = episode.committedSteps();
+  report["steps"] = episode.history().size();
+  report["rewinds"] = episode.rewinds();
+  report["failed_cells"] = episode.failed().cells().size();
+  report["map_points"] = cloud.size();
+  report["stage_seconds"] = toJson(total);
+  report["wall_seconds"] = wall;
+  report["frames_rendered"] = [&] {
+    size_t n = 0;
+    for (const auto& s : episode.history())
+      for (const auto& c : s.candidates) n += c.truth.size();
+    return n;
+  }();
+  if (map) report["ground_truth"] = groundTruth(episode, *map, cloud);
+  std::ofstream(out + "/report.json") << report.dump(2) << '\n';
+}
+
+}  // namespace valerant

@@ -1,0 +1,125 @@
+// collision_checker: judges every branch (paper eqs. 6 and 7) with BranchCheck.
+//   sub branch/<c>/floor (valerant/FloorSample) -> pub branch/<c>/result
+//   (valerant/BranchResult) once the rollout's last frame is in, or at its first error.
+#include <optional>
+#include <ros/ros.h>
+#include <valerant/CandidateResult.h>
+#include <valerant/FloorSample.h>
+
+#include "valerant/common/error.h"
+#include "valerant/explore/branch_check.h"
+#include "valerant/ros/conversions.h"
+#include "valerant/ros/graph_config.h"
+#include "valerant/ros/graph_names.h"
+#include "valerant/world/action_sequence.h"
+
+using namespace valerant;
+
+namespace {
+
+struct Branch {
+  std::optional<BranchCheck> check;
+  valerant::CandidateResult result;
+  std::vector<uint32_t> keyframe_at;  // frame index of each keyframe in `result`
+  bool done = true;                   // nothing in flight
+};
+
+class CollisionChecker {
+ public:
+  CollisionChecker(::ros::NodeHandle nh) : config_(valerant::bridge::loadGraphConfig(nh)) {
+    for (const std::string& c : candidateNames()) {
+      results_[c] = nh.advertise<valerant::CandidateResult>(valerant::bridge::branchName(c, "result"), 16);
+      samples_.push_back(nh.subscribe<valerant::FloorSample>(
+          valerant::bridge::branchName(c, "floor"), 256,
+          [this, c](const valerant::FloorSample::ConstPtr& msg) { onSample(c, *msg); }));
+    }
+  }
+
+ private:
+  void fail(const std::string& candidate, const valerant::FrameKey& key, const std::string& error) {
+    ROS_ERROR_STREAM("collision_checker: " << candidate << " rollout " << key.rollout_id << ": " << error);
+    Branch& b = branches_[candidate];
+    b.result = {};
+    b.result.header.stamp = ::ros::Time::now();
+    b.result.key = key;
+    b.result.error = error;
+    results_.at(candidate).publish(b.result);
+    b.done = true;
+    b.check.reset();
+  }
+
+  void onSample(const std::string& candidate, const valerant::FloorSample& s) {
+    const valerant::SlamFrame& t = s.tracked;
+    Branch& b = branches_[candidate];
+    if (!t.error.empty()) {
+      if (!(b.done && b.result.key.rollout_id == t.key.rollout_id && !b.result.error.empty()))
+        fail(candidate, t.key, t.error);  // once per rollout
+      return;
+    }
+    if (t.key.index == 0) {
+      b.check.emplace(config_);
+      b.result = {};
+      b.keyframe_at.clear();
+      b.result.key = t.key;
+      b.done = false;
+    } else if (b.done || t.key.rollout_id != b.result.key.rollout_id) {
+      if (!b.done || b.result.key.rollout_id != t.key.rollout_id)
+        fail(candidate, t.key, "frame " + std::to_string(t.key.index) + " of a rollout whose first frame never arrived");
+      return;
+    }
+    try {
+      if (t.key.index != b.check->frames()) throw InputError("frame " + std::to_string(t.key.index), "out of order");
+      const TrackedFrame frame = valerant::bridge::trackedFrameFromMsg(t);
+      std::optional<KeyframeCloud> keyframe;
+      if (t.keyframe) keyframe = valerant::bridge::keyframeFromMsg(t);
+      b.check->add(frame, keyframe ? &*keyframe : nullptr, valerant::bridge::fromMsg(s.floor));
+      b.result.poses.push_back(t.camera_to_map);
+      if (t.keyframe) {
+        b.result.keyframes.push_back(t.cloud);
+        b.result.keyframe_indices.push_back(t.keyframe_index);
+        b.result.keyframe_frames.push_back(t.keyframe_frame);
+        b.result.keyframe_poses.push_back(t.keyframe_pose);
+        b.result.keyframe_floors.push_back(s.floor);
+        b.keyframe_at.push_back(t.key.index);
+      }
+      b.result.floor_reliable = s.has_reliable;
+      if (t.key.index + 1 == t.key.count) {
+        b.result.header.stamp = ::ros::Time::now();
+        b.result.header.frame_id = "map";
+        b.result.verdict = valerant::bridge::toMsg(b.check->finish(candidate, t.key.rotation_only));
+        // Keyframes made before the branch's first floor get it back-filled, exactly as
+        // in the in-process pipeline (BranchCheck::floors), so both fuse the same map.
+        const std::vector<FloorPlane> floors = b.check->floors();
+        for (size_t k = 0; k < b.keyframe_at.size(); ++k) {
+          const std_msgs::Header header = b.result.keyframe_floors[k].header;
+          b.result.keyframe_floors[k] = valerant::bridge::toMsg(floors[b.keyframe_at[k]], b.keyframe_at[k]);
+          b.result.keyframe_floors[k].header = header;
+        }
+        results_.at(candidate).publish(b.result);
+        b.done = true;
+        b.check.reset();
+      }
+    } catch (const std::exception& e) {
+      fail(candidate, t.key, e.what());
+    }
+  }
+
+  Config config_;
+  std::map<std::string, Branch> branches_;
+  std::map<std::string, ::ros::Publisher> results_;
+  std::vector<::ros::Subscriber> samples_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ::ros::init(argc, argv, "collision_checker");
+  try {
+    CollisionChecker node{::ros::NodeHandle()};
+    ::ros::spin();
+  } catch (const std::exception& e) {
+    ROS_FATAL_STREAM("collision_checker: " << e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,177 @@
+#include "valerant/ros/ros_branch_pipeline.h"
+
+#include <ros/service.h>
+#include <valerant/Checkpoint.h>
+#include <valerant/Commit.h>
+#include <valerant/Drop.h>
+#include <valerant/FloorAt.h>
+#include <valerant/FloorContext.h>
+#include <valerant/Restore.h>
+#include <valerant/TrackContext.h>
+
+#include "valerant/ros/conversions.h"
+#include "valerant/ros/graph_names.h"
+#include "valerant/ros/service_call.h"
+#include "valerant/world/action_sequence.h"
+
+namespace valerant::bridge {
+namespace {
+
+std::string slamService(const std::string& candidate, const std::string& leaf) {
+  return branchName(candidate, "slam/" + leaf);
+}
+std::string floorService(const std::string& leaf) { return std::string(kFloorEstimator) + "/" + leaf; }
+
+// The tracked frames' poses, keyframes and floors as a BranchResult.
+void addFrame(const valerant::SlamFrame& t, const valerant::Floor* floor, BranchResult& out) {
+  out.poses.push_back(fromMsg(t.camera_to_map));
+  if (t.keyframe) {
+    out.keyframes.push_back(keyframeFromMsg(t));
+    if (floor) out.keyframe_floors.push_back(fromMsg(*floor));
+  }
+}
+
+}  // namespace
+
+RosBranchPipeline::RosBranchPipeline(::ros::NodeHandle nh, double connect_timeout_s, double result_timeout_s)
+    : nh_(nh), result_timeout_s_(result_timeout_s) {
+  const ::ros::Duration timeout(connect_timeout_s);
+  std::vector<std::string> services{floorService("checkpoint")};
+  for (const std::string& c : candidateNames()) services.push_back(slamService(c, "checkpoint"));
+  for (const std::string& s : services)
+    if (!::ros::service::waitForService(nh_.resolveName(s), timeout))
+      throw InputError("service " + nh_.resolveName(s), "not reachable (is the node running?)");
+  for (const std::string& c : candidateNames())
+    results_.push_back(nh_.subscribe(branchName(c, "result"), 10, &RosBranchPipeline::onResult, this));
+}
+
+template <class Service>
+void RosBranchPipeline::callAll(const std::string& leaf, const typename Service::Request& request) {
+  std::vector<std::string> names{floorService(leaf)};
+  for (const std::string& c : candidateNames()) names.push_back(slamService(c, leaf));
+  std::vector<std::future<void>> calls;
+  for (const std::string& n : names)
+    calls.push_back(std::async(std::launch::async, [this, n, request] {
+      ::ros::ServiceClient client = nh_.serviceClient<Service>(n);
+      Service srv;
+      srv.request = request;
+      callChecked(client, srv);
+    }));
+  for (auto& c : calls) c.get();  // rethrows the first failure
+}
+
+BranchResult RosBranchPipeline::start(const Rollout& context) {
+  // Every branch_slam tracks the context into its committed state; they are
+  // deterministic, so their answers agree and any one of them feeds the floor.
+  std::vector<std::future<valerant::TrackContext>> tracks;
+  for (const std::string& c : candidateNames())
+    tracks.push_back(std::async(std::launch::async, [this, c] {
+      ::ros::ServiceClient client = nh_.serviceClient<valerant::TrackContext>(slamService(c, "track_context"));
+      valerant::TrackContext srv;
+      callChecked(client, srv);
+      return srv;
+    }));
+  std::vector<valerant::TrackContext> tracked;
+  for (auto& t : tracks) tracked.push_back(t.get());
+  for (const auto& t : tracked)
+    if (t.response.frames.size() != tracked.front().response.frames.size())
+      throw InputError("branch_slam nodes", "disagree on the context (different frame counts)");
+
+  valerant::FloorContext floor;
+  floor.request.frames = tracked.front().response.frames;
+  ::ros::ServiceClient client = nh_.serviceClient<valerant::FloorContext>(floorService("floor_context"));
+  callChecked(client, floor);
+  if (floor.response.samples.size() != floor.request.frames.size())
+    throw InputError("floor_estimator", "answered the context with a wrong number of floors");
+
+  BranchResult out;
+  out.rollout = context;
+  for (size_t i = 0; i < floor.request.frames.size(); ++i)
+    addFrame(floor.request.frames[i], &floor.response.samples[i].floor, out);
+  out.floor_reliable = !floor.response.samples.empty() && floor.response.samples.back().has_reliable;
+  return out;
+}
+
+void RosBranchPipeline::checkpoint(CheckpointId id) {
+  valerant::Checkpoint::Request request;
+  request.checkpoint_id = id;
+  callAll<valerant::Checkpoint>("checkpoint", request);
+}
+
+void RosBranchPipeline::restore(CheckpointId id) {
+  valerant::Restore::Request request;
+  request.checkpoint_id = id;
+  callAll<valerant::Restore>("restore", request);
+}
+
+void RosBranchPipeline::drop(CheckpointId id) {
+  valerant::Drop::Request request;
+  request.checkpoint_id = id;
+  callAll<valerant::Drop>("drop", request);
+}
+
+void RosBranchPipeline::onResult(const valerant::CandidateResult::ConstPtr& msg) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    received_[msg->key.rollout_id] = msg;
+  }
+  arrived_.notify_all();
+}
+
+std::future<BranchResult> RosBranchPipeline::evaluate(Rollout rollout, bool rotation_only) {
+  return std::async(std::launch::async, &RosBranchPipeline::waitForResult, this, std::move(rollout), rotation_only);
+}
+
+BranchResult RosBranchPipeline::waitForResult(Rollout rollout, bool rotation_only) {
+  valerant::CandidateResult::ConstPtr msg;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const bool ok = arrived_.wait_for(lock, std::chrono::duration<double>(result_timeout_s_),
+                                      [&] { return received_.count(rollout.id) > 0; });
+    if (!ok)
+      throw InputError("rollout " + std::to_string(rollout.id) + " (" + rollout.candidate + ")",
+                       "no result from collision_checker within the timeout");
+    msg = received_.at(rollout.id);
+    received_.erase(rollout.id);
+  }
+  const std::string what = "result of rollout " + std::to_string(rollout.id) + " (" + rollout.candidate + ")";
+  if (!msg->error.empty()) throw InputError(what, msg->error);
+  if (msg->key.candidate != rollout.candidate || msg->key.rotation_only != rotation_only)
+    throw InputError(what, "belongs to another candidate (" + msg->key.candidate + ")");
+  if (msg->keyframes.size() != msg->keyframe_floors.size() || msg->keyframes.size() != msg->keyframe_poses.size() ||
+      msg->keyframes.size() != msg->keyframe_indices.size() || msg->keyframes.size() != msg->keyframe_frames.size())
+    throw InputError(what, "keyframe arrays differ in length");
+
+  BranchResult out;
+  out.rollout = std::move(rollout);
+  for (const auto& p : msg->poses) out.poses.push_back(fromMsg(p));
+  for (size_t i = 0; i < msg->keyframes.size(); ++i) {
+    KeyframeCloud kf;
+    kf.keyframe = static_cast<int>(msg->keyframe_indices[i]);
+    kf.frame = static_cast<int>(msg->keyframe_frames[i]);
+    kf.camera_to_map = fromMsg(msg->keyframe_poses[i]);
+    kf.points = fromCloudMsg(msg->keyframes[i]);
+    out.keyframes.push_back(std::move(kf));
+    out.keyframe_floors.push_back(fromMsg(msg->keyframe_floors[i]));
+  }
+  out.floor_reliable = msg->floor_reliable;
+  out.verdict = fromMsg(msg->verdict);
+  return out;
+}
+
+void RosBranchPipeline::commit(const BranchResult& chosen) {
+  valerant::Commit::Request request;
+  request.rollout_id = chosen.rollout.id;
+  request.candidate = chosen.rollout.candidate;
+  callAll<valerant::Commit>("commit", request);
+}
+
+FloorPlane RosBranchPipeline::floorAt(const Eigen::Isometry3d& camera_to_map) {
+  ::ros::ServiceClient client = nh_.serviceClient<valerant::FloorAt>(floorService("floor_at"));
+  valerant::FloorAt srv;
+  srv.request.camera_to_map = toMsg(camera_to_map);
+  callChecked(client, srv);
+  return fromMsg(srv.response.floor);
+}
+
+}  // namespace valerant::bridge

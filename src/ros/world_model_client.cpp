@@ -1,0 +1,105 @@
+#include "valerant/ros/world_model_client.h"
+
+#include <ros/topic.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <valerant/Checkpoint.h>
+#include <valerant/Commit.h>
+#include <valerant/Drop.h>
+#include <valerant/GetRollout.h>
+#include <valerant/Reset.h>
+#include <valerant/Restore.h>
+
+#include "valerant/ros/conversions.h"
+#include "valerant/ros/graph_names.h"
+#include "valerant/ros/service_call.h"
+
+namespace valerant::bridge {
+namespace {
+
+std::string name(const std::string& leaf) { return std::string(kWorldModel) + "/" + leaf; }
+
+}  // namespace
+
+WorldModelClient::WorldModelClient(::ros::NodeHandle nh, double connect_timeout_s, double rollout_timeout_s)
+    : nh_(nh),
+      rollout_timeout_s_(rollout_timeout_s),
+      checkpoint_(nh.serviceClient<valerant::Checkpoint>(name("checkpoint"))),
+      restore_(nh.serviceClient<valerant::Restore>(name("restore"))),
+      drop_(nh.serviceClient<valerant::Drop>(name("drop"))),
+      commit_(nh.serviceClient<valerant::Commit>(name("commit"))),
+      reset_(nh.serviceClient<valerant::Reset>(name("reset"))),
+      get_rollout_(nh.serviceClient<valerant::GetRollout>(name("get_rollout"))),
+      rollout_(nh, name("rollout"), true) {
+  const ::ros::Duration timeout(connect_timeout_s);
+  if (!rollout_.waitForServer(timeout) || !checkpoint_.waitForExistence(timeout))
+    throw InputError("world model server " + nh.resolveName(kWorldModel), "not reachable");
+  const auto info = ::ros::topic::waitForMessage<sensor_msgs::CameraInfo>(name("camera_info"), nh, timeout);
+  if (!info) throw InputError("topic " + nh.resolveName(name("camera_info")), "nothing received");
+  intrinsics_.width = static_cast<int>(info->width);
+  intrinsics_.height = static_cast<int>(info->height);
+  intrinsics_.fx = info->K[0], intrinsics_.cx = info->K[2], intrinsics_.fy = info->K[4], intrinsics_.cy = info->K[5];
+}
+
+Rollout WorldModelClient::context() const {
+  valerant::GetRollout srv;
+  srv.request.rollout_id = 0;
+  srv.request.with_images = false;
+  callChecked(get_rollout_, srv);
+  Rollout r;
+  r.candidate = "context";
+  for (const auto& f : srv.response.frames)
+    for (const auto& t : f.truth) r.truth.push_back(fromMsg(t));
+  return r;
+}
+
+CheckpointId WorldModelClient::checkpoint() {
+  valerant::Checkpoint srv;
+  callChecked(checkpoint_, srv);
+  current_ = srv.response.checkpoint_id;
+  return current_;
+}
+
+void WorldModelClient::restore(CheckpointId id) {
+  valerant::Restore srv;
+  srv.request.checkpoint_id = id;
+  callChecked(restore_, srv);
+  current_ = id;
+}
+
+void WorldModelClient::dropCheckpoint(CheckpointId id) {
+  valerant::Drop srv;
+  srv.request.checkpoint_id = id;
+  callChecked(drop_, srv);
+}
+
+Rollout WorldModelClient::rollout(const ActionSequence& actions) {
+  valerant::RolloutGoal goal;
+  goal.checkpoint_id = current_;
+  goal.candidate = actions.name;
+  const auto state = rollout_.sendGoalAndWait(goal, ::ros::Duration(rollout_timeout_s_));
+  const auto result = rollout_.getResult();
+  if (state != actionlib::SimpleClientGoalState::SUCCEEDED || !result)
+    throw InputError("rollout of " + actions.name,
+                     state.toString() + (result && !result->status.empty() ? ": " + result->status : std::string()));
+  Rollout r;
+  r.id = result->rollout_id;
+  r.candidate = actions.name;
+  for (const auto& t : result->truth) r.truth.push_back(fromMsg(t));
+  return r;
+}
+
+void WorldModelClient::commit(const Rollout& rollout) {
+  valerant::Commit srv;
+  srv.request.rollout_id = rollout.id;
+  srv.request.candidate = rollout.candidate;
+  callChecked(commit_, srv);
+  current_ = 0;
+}
+
+void WorldModelClient::reset() {
+  valerant::Reset srv;
+  callChecked(reset_, srv);
+  current_ = 0;
+}
+
+}  // namespace valerant::bridge

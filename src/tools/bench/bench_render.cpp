@@ -1,0 +1,55 @@
+// valerant_bench render: frames/s of colour + depth rendering along committed candidate
+// rollouts (uw, jq, lw, ... in turn), plus the process's peak resident memory.
+#include <sys/resource.h>
+
+#include <chrono>
+
+#include "../cli_args.h"
+#include "bench.h"
+#include "valerant/world/quake3/quake3_world.h"
+
+namespace valerant::tools {
+
+double peakResidentMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;  // Linux reports KiB
+}
+
+nlohmann::json benchRender(int argc, char** argv) {
+  CliArgs args(argc, argv, {"--map", "--frames", "--spawn", "--config"});
+  Config config = loadConfig(args.get("--config", defaultConfigPath()));
+  config.world.map = args.get("--map", config.world.map);
+  config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
+  const long frames = args.integer("--frames", 1000);
+  if (frames < 1) throw InputError("--frames", "must be >= 1");
+
+  const auto load_start = std::chrono::steady_clock::now();
+  auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
+
+  // A varied path: forward, rotations and turns in turn, each committed.
+  const std::vector<std::string> cycle = {"uw", "jq", "lw", "lq", "jw"};
+  long rendered = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (size_t i = 0; rendered < frames; ++i) {
+    ActionSequence seq = makeActionSequence(cycle[i % cycle.size()], config);
+    if (static_cast<long>(seq.steps.size()) > frames - rendered) seq.steps.resize(frames - rendered);
+    const Rollout r = world.rollout(seq);
+    world.commit(r);
+    rendered += static_cast<long>(r.frames.size());
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return {{"bench", "render"},
+          {"map", config.world.map},
+          {"width", config.world.width},
+          {"height", config.world.height},
+          {"frames", rendered},
+          {"seconds", seconds},
+          {"load_seconds", load_s},
+          {"frames_per_second", rendered / seconds},
+          {"peak_rss_mib", peakResidentMiB()}};
+}
+
+}  // namespace valerant::tools

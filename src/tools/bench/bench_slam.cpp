@@ -1,0 +1,121 @@
+// valerant_bench slam: frames/s of one SLAM branch per candidate on one core (the
+// process pins itself to one CPU, OpenCV and Ceres run single-threaded), including
+// per-frame depth, and the cost of snapshot() + restore() of a branch that has tracked
+// its whole rollout. Rendering is done before timing starts.
+#include <sched.h>
+
+#include <algorithm>
+#include <limits>
+#include <opencv2/core.hpp>
+
+#include "../cli_args.h"
+#include "../thread_clock.h"
+#include "bench.h"
+#include "valerant/slam/slam_factory.h"
+#include "valerant/world/quake3/quake3_world.h"
+
+namespace valerant::tools {
+namespace {
+
+// Restricts this process to the first CPU it may run on, so "per core" is literal.
+int pinToOneCpu() {
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof(allowed), &allowed) != 0) return -1;
+  for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+    if (!CPU_ISSET(cpu, &allowed)) continue;
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cpu, &one);
+    return sched_setaffinity(0, sizeof(one), &one) == 0 ? cpu : -1;
+  }
+  return -1;
+}
+
+}  // namespace
+
+nlohmann::json benchSlam(int argc, char** argv) {
+  CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--repeats", "--config"});
+  Config config = loadConfig(args.get("--config", defaultConfigPath()));
+  config.world.map = args.get("--map", config.world.map);
+  config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
+  const std::string backend = args.get("--slam", config.slam.backend);
+  const long repeats = args.integer("--repeats", 3);
+  if (repeats < 1) throw InputError("--repeats", "must be >= 1");
+  std::vector<ActionSequence> sequences;  // validated before the map is loaded
+  for (const auto& c : args.list("--candidates", "uw,jw,lw,jq,lq")) sequences.push_back(makeActionSequence(c, config));
+  const int cpu = pinToOneCpu();
+  cv::setNumThreads(1);
+
+  auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  auto slam = makeSlam(backend, world.intrinsics(), config);
+  const Rollout context = world.context();
+  const CheckpointId start = world.checkpoint();
+  std::vector<Rollout> rollouts;
+  for (const auto& seq : sequences) {
+    world.restore(start);
+    rollouts.push_back(world.rollout(seq));
+  }
+  auto track = [](Slam& s, const Rollout& r) {
+    for (size_t i = 0; i < r.frames.size(); ++i) {
+      SlamInput in;
+      in.rgb = r.frames[i];
+      if (i < r.truth.size()) in.truth = &r.truth[i];
+      s.track(in);
+    }
+  };
+  track(*slam, context);
+
+  constexpr int kSnapshotRepeats = 200;
+  nlohmann::json candidates = nlohmann::json::array();
+  double total_frames = 0, total_cpu = 0, total_wall = 0, worst_snapshot_restore_ms = 0;
+  double min_fps_cpu = std::numeric_limits<double>::infinity();
+  for (size_t c = 0; c < sequences.size(); ++c) {
+    // Every repeat branches from the same committed state, as the explorer does.
+    ThreadClock spent;
+    std::unique_ptr<Slam> branch;
+    for (long r = 0; r < repeats; ++r) {
+      const auto t0 = ThreadClock::now();
+      branch = slam->branch();
+      track(*branch, rollouts[c]);
+      spent += ThreadClock::now() - t0;
+    }
+    const double frames = static_cast<double>(rollouts[c].frames.size() * repeats);
+    // snapshot() + restore() of the branch at its largest state (whole rollout tracked).
+    double max_ms = 0;
+    const auto s0 = ThreadClock::now();
+    for (int i = 0; i < kSnapshotRepeats; ++i) {
+      const auto one = ThreadClock::now();
+      branch->restore(branch->snapshot());
+      max_ms = std::max(max_ms, 1e3 * (ThreadClock::now() - one).wall);
+    }
+    const double mean_ms = 1e3 * (ThreadClock::now() - s0).wall / kSnapshotRepeats;
+    worst_snapshot_restore_ms = std::max(worst_snapshot_restore_ms, max_ms);
+    total_frames += frames, total_cpu += spent.cpu, total_wall += spent.wall;
+    min_fps_cpu = std::min(min_fps_cpu, frames / spent.cpu);
+    candidates.push_back({{"candidate", sequences[c].name},
+                          {"frames", rollouts[c].frames.size()},
+                          {"keyframes", branch->keyframeCount()},
+                          {"fps_cpu", frames / spent.cpu},
+                          {"fps_wall", frames / spent.wall},
+                          {"snapshot_restore_ms_mean", mean_ms},
+                          {"snapshot_restore_ms_max", max_ms}});
+  }
+  return {{"bench", "slam"},
+          {"slam", backend},
+          {"map", config.world.map},
+          {"spawn", config.world.spawn},
+          {"width", config.world.width},
+          {"height", config.world.height},
+          {"cpu", cpu},
+          {"repeats", repeats},
+          {"fps_cpu", total_frames / total_cpu},
+          {"fps_wall", total_frames / total_wall},
+          {"min_candidate_fps_cpu", min_fps_cpu},
+          {"snapshot_restore_ms_max", worst_snapshot_restore_ms},
+          {"candidates", candidates},
+          {"peak_rss_mib", peakResidentMiB()}};
+}
+
+}  // namespace valerant::tools

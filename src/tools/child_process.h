@@ -1,0 +1,45 @@
+#pragma once
+// Starting a tool as a child process with its stdout and stderr in files, for the tools
+// that drive other tools (valerant_eval runs valerant_explore, valerant_bench graph runs
+// valerant_explore and roslaunch). POSIX fork/exec: std has nothing for this, and the
+// children must keep running in parallel while the parent waits for any of them.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "valerant/common/error.h"
+
+namespace valerant::tools {
+
+// Starts `argv[0]` (a path, or a name looked up on PATH) with `environment` added to
+// this process's environment; returns its pid.
+inline pid_t startChild(const std::vector<std::string>& argv, const std::string& stdout_path,
+                        const std::string& stderr_path, const std::map<std::string, std::string>& environment = {}) {
+  if (argv.empty()) throw InputError("startChild", "no command");
+  const pid_t pid = fork();
+  if (pid < 0) throw InputError(argv[0], "cannot start a process");
+  if (pid == 0) {
+    if (!freopen(stderr_path.c_str(), "w", stderr) || !freopen(stdout_path.c_str(), "w", stdout)) _exit(126);
+    for (const auto& [name, value] : environment) setenv(name.c_str(), value.c_str(), 1);
+    std::vector<char*> args;
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execvp(args[0], args.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// Waits for `pid`; true when it exited with status 0.
+inline bool waitForChild(pid_t pid) {
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid) return false;
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+}  // namespace valerant::tools

@@ -1,0 +1,110 @@
+// valerant_export: the map of a finished run directory as files game engines and ROS
+// tools load (see map/run_exports.h for the formats and their frames).
+//
+//   valerant_export --run DIR --out DIR [--formats ply,pcd,bt,grid,obj,glb,walkable,png] [--force]
+//
+// Rebuilds the map from the run's own files (map/run_map.h), writes the formats (all by
+// default) and report.json into --out, and prints one JSON summary line. On an engine
+// run (report.json names the map, gt_trajectory.txt exists) the report also holds the
+// exported walkable area's precision and recall against the reachable floor
+// (eval/walkable_truth.h). Never overwrites a file unless --force.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "cli_args.h"
+#include "valerant/common/error.h"
+#include "valerant/common/output_file.h"
+#include "valerant/common/tum_trajectory.h"
+#include "valerant/eval/trajectory_metrics.h"
+#include "valerant/eval/walkable_truth.h"
+#include "valerant/map/run_exports.h"
+#include "valerant/map/run_map.h"
+#include "valerant/world/quake3/quake3_map.h"
+#include "valerant/world/quake3/reachable_floor.h"
+
+using namespace valerant;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Walkable precision / recall of `walkable_path` against the engine map the run
+// explored, the SLAM map tied to the BSP frame through the ground-truth trajectory.
+nlohmann::json walkableGroundTruth(const RunMap& run, const std::string& run_dir, const std::string& walkable_path) {
+  const std::string truth_path = (fs::path(run_dir) / "gt_trajectory.txt").string();
+  const std::string map_name = run.report.value("map", "");
+  if (map_name.empty() || !fs::exists(truth_path) || !run.report.contains("spawn"))
+    return {{"available", false}, {"reason", "not an engine run (no map name or gt_trajectory.txt)"}};
+  const double units_per_metre = run.config.exports.units_per_metre;
+  std::vector<Eigen::Isometry3d> truth;
+  for (const auto& p : readTumTrajectory(truth_path)) {
+    Eigen::Isometry3d pose = p.pose;
+    pose.translation() /= units_per_metre;
+    truth.push_back(pose);
+  }
+  if (truth.size() != run.trajectory.size())
+    throw InputError(truth_path, "holds " + std::to_string(truth.size()) + " poses, trajectory.txt " +
+                                     std::to_string(run.trajectory.size()));
+  const TrajectoryError ate = trajectoryError(run.trajectory, truth);
+  if (!ate.aligned) return {{"available", false}, {"reason", "the trajectory is too short to align"}};
+
+  const auto map = quake3::loadQuake3Map(map_name, run.config.world.patch_level);
+  const auto spawns = map->bsp.spawnPoints();
+  const int spawn = run.report["spawn"].get<int>();
+  if (spawn < 0 || spawn >= static_cast<int>(spawns.size()))
+    throw InputError(run_dir + "/report.json", "spawn " + std::to_string(spawn) + " is not a spawn of " + map_name);
+  const auto reachable = quake3::floodFillReachableFloor(*map->collision, spawns[spawn].origin);
+  const WalkableTruth t = evaluateWalkableTruth(readWalkableJson(walkable_path),
+                                                run.floorGrid(run.config.exports.walkable_cell_fraction), run.frame,
+                                                ate.alignment, reachable, spawns[spawn].origin, units_per_metre);
+  return {{"available", true},
+          {"walkable_precision", t.precision},
+          {"walkable_recall_explored", t.recall_explored},
+          {"walkable_recall_all", t.recall_all},
+          {"walkable_cells", t.walkable_cells},
+          {"walkable_cells_reachable", t.walkable_cells_reachable},
+          {"reachable_cells", t.reachable_cells},
+          {"reachable_cells_explored", t.reachable_cells_explored},
+          {"reachable_cells_explored_walkable", t.reachable_cells_explored_walkable},
+          {"reachable_cell_m", reachable.cell_size / units_per_metre},
+          {"truth_metres_per_unit", ate.alignment.scale},
+          {"ate_rmse_m", ate.ate_rmse}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    tools::CliArgs args(argc, argv, {"--run", "--out", "--formats"}, {"--force"});
+    const std::string run_dir = args.required("--run"), out = args.required("--out");
+    const std::vector<std::string> formats = parseFormats(args.get("--formats", [] {
+      std::string all;
+      for (const auto& f : exportFormats()) all += (all.empty() ? "" : ",") + f;
+      return all;
+    }()));
+    const bool overwrite = args.has("--force");
+    if (fs::exists(out) && fs::exists(run_dir) && fs::equivalent(out, run_dir))
+      throw InputError("--out " + out, "is the run directory; its files are the export's input");
+
+    const RunMap run = loadRunMap(run_dir);
+    fs::create_directories(out);
+    const std::string report_path = (fs::path(out) / "report.json").string();
+    requireWritable(report_path, overwrite);
+    nlohmann::json report = exportRunMap(run, formats, out, overwrite);
+    report["tool"] = "valerant_export";
+    report["run"] = run_dir;
+    report["formats"] = formats;
+    if (std::count(formats.begin(), formats.end(), "walkable"))
+      report["ground_truth"] = walkableGroundTruth(run, run_dir, (fs::path(out) / "walkable.json").string());
+    report["files"].push_back("report.json");
+    std::ofstream report_file(report_path);
+    report_file << report.dump(2) << '\n';
+    if (!report_file) throw InputError(report_path, "cannot write");
+    std::cout << report.dump() << std::endl;
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "valerant_export: error: " << e.what() << std::endl;
+    return 1;
+  }
+}

@@ -1,0 +1,85 @@
+"""Small helpers shared by the rostest test nodes: an Explore client, the in-process
+valerant_explore run with the same settings, and decisions.jsonl without timings."""
+import json
+import os
+import re
+import subprocess
+import tempfile
+
+import actionlib
+import rospy
+import roslib.packages
+from valerant.msg import ExploreAction, ExploreGoal
+
+TIMING_KEYS = ("seconds", "wall_seconds")
+
+
+def wait_for_connections(endpoint, timeout_s=60.0):
+    """Waits until a rospy Subscriber or Publisher is connected to a peer: a fixed sleep
+    is not enough on a loaded 2-core CI machine, and messages sent before the
+    connection exists are lost."""
+    deadline = rospy.Time.now() + rospy.Duration(timeout_s)
+    while endpoint.get_num_connections() == 0:
+        if rospy.is_shutdown() or rospy.Time.now() > deadline:
+            raise RuntimeError("%s: no connection after %s s" % (endpoint.resolved_name, timeout_s))
+        rospy.sleep(0.05)
+
+
+def explore(budget, output_dir, timeout_s, on_feedback=None):
+    """Sends one Explore goal and waits for its result: (state, result)."""
+    client = actionlib.SimpleActionClient("explorer/explore", ExploreAction)
+    if not client.wait_for_server(rospy.Duration(timeout_s)):
+        raise RuntimeError("explorer/explore not available")
+    goal = ExploreGoal(world="", spawn=-1, budget=budget, seed=-1, output_dir=output_dir)
+    client.send_goal(goal, feedback_cb=on_feedback)
+    if not client.wait_for_result(rospy.Duration(timeout_s)):
+        raise RuntimeError("Explore did not finish in %s s" % timeout_s)
+    return client.get_state(), client.get_result()
+
+
+def decisions(path):
+    """The decisions of a run, without the wall-clock timings (which always differ)."""
+    out = []
+    with open(path) as f:
+        for line in f:
+            record = json.loads(line)
+            for key in TIMING_KEYS:
+                record.pop(key, None)
+            out.append(record)
+    return out
+
+
+def graph_config_file():
+    """The config file the graph was launched with, with its width/height overrides."""
+    ns = rospy.search_param("valerant_config")
+    config = rospy.get_param(ns)
+    with open(config["file"]) as f:
+        text = f.read()
+    size = {"width": config["width"], "height": config["height"]}
+    for key, value in size.items():
+        text, found = re.subn(r"(?m)^(\s+)%s:\s*\d+" % key, r"\g<1>%s: %d" % (key, value), text)
+        if not found and not re.search(r"(?m)^world:", text):
+            text += "\nworld:\n  width: %d\n  height: %d\n" % (size["width"], size["height"])
+            break
+    handle, path = tempfile.mkstemp(suffix=".yaml")
+    with os.fdopen(handle, "w") as f:
+        f.write(text)
+    return config, path
+
+
+def run_valerant_explore(budget, output_dir):
+    """valerant_explore (in process, no ROS) with the graph's map, spawn, seed, SLAM and
+    configuration; returns its decisions."""
+    config, config_path = graph_config_file()
+    tool = roslib.packages.find_node("valerant", "valerant_explore")
+    if not tool:
+        raise RuntimeError("valerant_explore is not built")
+    command = [tool[0], "--map", config["map"], "--spawn", str(config["spawn"]), "--seed", str(config["seed"]),
+               "--slam", config["slam"], "--budget", str(budget), "--config", config_path, "--force",
+               "--out", output_dir]
+    for switch, flag in (("rf", "--no-rf"), ("col_pc", "--no-col-pc"), ("col_depth", "--no-col-depth"),
+                         ("dp", "--no-dp")):
+        if not config[switch]:
+            command.append(flag)
+    subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
+    return decisions(os.path.join(output_dir, "decisions.jsonl"))

@@ -1,0 +1,43 @@
+// Ground truth of an episode that never translates: a spawn in a small room on oa_dm4
+// where every forward candidate (8 m) walks into a wall, so the agent only rotates.
+// Positions cannot fit a Sim(3) then; the first pose and the floor tie the map to the
+// world instead. With the oracle SLAM (map units are metres, camera 50/32 m above the
+// floor) the tie's scale must come out near 1, and the floor seen while turning
+// must count as observed. Full 320x240 frames: smaller keyframe clouds hold too few
+// floor points for a reliable floor, and without one nothing is fused or measured.
+#include <gtest/gtest.h>
+
+#include "openarena_data.h"
+#include "valerant/eval/episode_truth.h"
+#include "valerant/slam/oracle_slam.h"
+#include "valerant/world/quake3/quake3_world.h"
+
+using namespace valerant;
+
+TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
+  VALERANT_REQUIRE_OPENARENA();
+  Config config;
+  config.world.spawn = 0;
+  config.policy.budget_steps = 2;
+  config.slam.backend = "oracle";
+  auto map = quake3::loadQuake3Map("oa_dm4", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  episode.runUntilDone(nullptr);
+  for (const auto& pose : episode.trajectory())  // precondition: rotations in place only
+    ASSERT_TRUE(pose.translation().isApprox(episode.trajectory().front().translation(), 1e-9));
+
+  const auto reachable = quake3::floodFillReachableFloor(*map->collision, world.spawnPoints()[0].origin);
+  const EpisodeTruth truth = evaluateEpisodeTruth(episode, reachable);
+  EXPECT_FALSE(truth.aligned);
+  ASSERT_TRUE(truth.floor_aligned);
+  // The estimated floor lies within a few centimetres of the true one (RANSAC on the
+  // lower envelope of the keyframe clouds): scale 1 within 5%.
+  EXPECT_NEAR(truth.alignment_scale, 1.0, 0.05);
+  // The oracle map frame is the BSP frame in metres: no rotation, and the first camera
+  // lands on its true centre whatever the scale.
+  EXPECT_TRUE(truth.map_to_world_metres.rotation.isApprox(Eigen::Matrix3d::Identity(), 1e-9));
+  const Eigen::Vector3d first = episode.trajectory().front().translation();
+  EXPECT_TRUE(truth.map_to_world_metres.apply(first).isApprox(first, 1e-9));
+  EXPECT_GT(truth.observed_reachable_m2, 10.0);
+}
