@@ -36,7 +36,11 @@ namespace {
 class BranchSlam {
  public:
   BranchSlam(::ros::NodeHandle nh, ::ros::NodeHandle pnh)
-      : nh_(nh), config_(valerant::bridge::loadGraphConfig(nh)), candidate_(valerant::bridge::requiredString(pnh, "candidate")) {
+      : nh_(nh),
+        config_(valerant::bridge::loadGraphConfig(nh)),
+        candidate_(valerant::bridge::requiredString(pnh, "candidate")),
+        get_rollout_(valerant::bridge::ServiceLink::to<valerant::GetRollout>(
+            nh, valerant::bridge::graphRoot(nh) + valerant::bridge::kWorldModel + "/get_rollout")) {
     const std::string root = valerant::bridge::graphRoot(nh);
     const ::ros::Duration timeout(valerant::bridge::requiredDouble(pnh, "connect_timeout_s"));
     const auto info = ::ros::topic::waitForMessage<sensor_msgs::CameraInfo>(
@@ -45,7 +49,6 @@ class BranchSlam {
     intrinsics_.width = static_cast<int>(info->width);
     intrinsics_.height = static_cast<int>(info->height);
     intrinsics_.fx = info->K[0], intrinsics_.cx = info->K[2], intrinsics_.fy = info->K[4], intrinsics_.cy = info->K[5];
-    get_rollout_ = nh.serviceClient<valerant::GetRollout>(root + valerant::bridge::kWorldModel + "/get_rollout");
     tracked_ = nh.advertise<valerant::SlamFrame>("tracked", 256);
     frames_ = nh.subscribe("frames", 256, &BranchSlam::onFrame, this);
     services_ = {pnh.advertiseService("track_context", &BranchSlam::trackContext, this),
@@ -145,7 +148,7 @@ class BranchSlam {
     valerant::GetRollout srv;
     srv.request.rollout_id = rollout_id;
     srv.request.with_images = true;
-    valerant::bridge::callChecked(get_rollout_, srv);
+    get_rollout_.call(srv);
     return srv.response.frames;
   }
 
@@ -204,13 +207,13 @@ class BranchSlam {
   ::ros::NodeHandle nh_;
   Config config_;
   std::string candidate_;
+  valerant::bridge::ServiceLink get_rollout_;  // replays other candidates' committed rollouts
   CameraIntrinsics intrinsics_;
   std::unique_ptr<Slam> committed_;
   CheckpointStore<std::shared_ptr<const SlamState>> saved_;
   CheckpointId latest_ = 0;           // the checkpoint the committed state stands at
   std::unique_ptr<Slam> branch_;      // this step's branch
   RolloutId branch_rollout_ = 0, failed_rollout_ = 0;
-  ::ros::ServiceClient get_rollout_;
   ::ros::Publisher tracked_;
   ::ros::Subscriber frames_;
   std::vector<::ros::ServiceServer> services_;

@@ -43,19 +43,32 @@ RosBranchPipeline::RosBranchPipeline(::ros::NodeHandle nh, double connect_timeou
       throw InputError("service " + nh_.resolveName(s), "not reachable (is the node running?)");
   for (const std::string& c : candidateNames())
     results_.push_back(nh_.subscribe(branchName(c, "result"), 10, &RosBranchPipeline::onResult, this));
+  for (const std::string& name : allNames("checkpoint")) links_.emplace(name, ServiceLink::to<valerant::Checkpoint>(nh_, name));
+  for (const std::string& name : allNames("restore")) links_.emplace(name, ServiceLink::to<valerant::Restore>(nh_, name));
+  for (const std::string& name : allNames("drop")) links_.emplace(name, ServiceLink::to<valerant::Drop>(nh_, name));
+  for (const std::string& name : allNames("commit")) links_.emplace(name, ServiceLink::to<valerant::Commit>(nh_, name));
+  for (const std::string& c : candidateNames()) {
+    const std::string name = slamService(c, "track_context");
+    links_.emplace(name, ServiceLink::to<valerant::TrackContext>(nh_, name));
+  }
+  links_.emplace(floorService("floor_context"), ServiceLink::to<valerant::FloorContext>(nh_, floorService("floor_context")));
+  links_.emplace(floorService("floor_at"), ServiceLink::to<valerant::FloorAt>(nh_, floorService("floor_at")));
+}
+
+std::vector<std::string> RosBranchPipeline::allNames(const std::string& leaf) {
+  std::vector<std::string> names{floorService(leaf)};
+  for (const std::string& c : candidateNames()) names.push_back(slamService(c, leaf));
+  return names;
 }
 
 template <class Service>
 void RosBranchPipeline::callAll(const std::string& leaf, const typename Service::Request& request) {
-  std::vector<std::string> names{floorService(leaf)};
-  for (const std::string& c : candidateNames()) names.push_back(slamService(c, leaf));
   std::vector<std::future<void>> calls;
-  for (const std::string& n : names)
-    calls.push_back(std::async(std::launch::async, [this, n, request] {
-      ::ros::ServiceClient client = nh_.serviceClient<Service>(n);
+  for (const std::string& n : allNames(leaf))  // one call per link at a time
+    calls.push_back(std::async(std::launch::async, [request, &link = links_.at(n)] {
       Service srv;
       srv.request = request;
-      callChecked(client, srv);
+      link.call(srv);
     }));
   for (auto& c : calls) c.get();  // rethrows the first failure
 }
@@ -65,10 +78,9 @@ BranchResult RosBranchPipeline::start(const Rollout& context) {
   // deterministic, so their answers agree and any one of them feeds the floor.
   std::vector<std::future<valerant::TrackContext>> tracks;
   for (const std::string& c : candidateNames())
-    tracks.push_back(std::async(std::launch::async, [this, c] {
-      ::ros::ServiceClient client = nh_.serviceClient<valerant::TrackContext>(slamService(c, "track_context"));
+    tracks.push_back(std::async(std::launch::async, [&link = links_.at(slamService(c, "track_context"))] {
       valerant::TrackContext srv;
-      callChecked(client, srv);
+      link.call(srv);
       return srv;
     }));
   std::vector<valerant::TrackContext> tracked;
@@ -79,8 +91,7 @@ BranchResult RosBranchPipeline::start(const Rollout& context) {
 
   valerant::FloorContext floor;
   floor.request.frames = tracked.front().response.frames;
-  ::ros::ServiceClient client = nh_.serviceClient<valerant::FloorContext>(floorService("floor_context"));
-  callChecked(client, floor);
+  links_.at(floorService("floor_context")).call(floor);
   if (floor.response.samples.size() != floor.request.frames.size())
     throw InputError("floor_estimator", "answered the context with a wrong number of floors");
 
@@ -167,10 +178,9 @@ void RosBranchPipeline::commit(const BranchResult& chosen) {
 }
 
 FloorPlane RosBranchPipeline::floorAt(const Eigen::Isometry3d& camera_to_map) {
-  ::ros::ServiceClient client = nh_.serviceClient<valerant::FloorAt>(floorService("floor_at"));
   valerant::FloorAt srv;
   srv.request.camera_to_map = toMsg(camera_to_map);
-  callChecked(client, srv);
+  links_.at(floorService("floor_at")).call(srv);
   return fromMsg(srv.response.floor);
 }
 

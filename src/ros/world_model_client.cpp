@@ -23,12 +23,12 @@ std::string name(const std::string& leaf) { return std::string(kWorldModel) + "/
 WorldModelClient::WorldModelClient(::ros::NodeHandle nh, double connect_timeout_s, double rollout_timeout_s)
     : nh_(nh),
       rollout_timeout_s_(rollout_timeout_s),
-      checkpoint_(nh.serviceClient<valerant::Checkpoint>(name("checkpoint"))),
-      restore_(nh.serviceClient<valerant::Restore>(name("restore"))),
-      drop_(nh.serviceClient<valerant::Drop>(name("drop"))),
-      commit_(nh.serviceClient<valerant::Commit>(name("commit"))),
-      reset_(nh.serviceClient<valerant::Reset>(name("reset"))),
-      get_rollout_(nh.serviceClient<valerant::GetRollout>(name("get_rollout"))),
+      checkpoint_(ServiceLink::to<valerant::Checkpoint>(nh, name("checkpoint"))),
+      restore_(ServiceLink::to<valerant::Restore>(nh, name("restore"))),
+      drop_(ServiceLink::to<valerant::Drop>(nh, name("drop"))),
+      commit_(ServiceLink::to<valerant::Commit>(nh, name("commit"))),
+      reset_(ServiceLink::to<valerant::Reset>(nh, name("reset"))),
+      get_rollout_(ServiceLink::to<valerant::GetRollout>(nh, name("get_rollout"))),
       rollout_(nh, name("rollout"), true) {
   const ::ros::Duration timeout(connect_timeout_s);
   if (!rollout_.waitForServer(timeout) || !checkpoint_.waitForExistence(timeout))
@@ -44,7 +44,7 @@ Rollout WorldModelClient::context() const {
   valerant::GetRollout srv;
   srv.request.rollout_id = 0;
   srv.request.with_images = false;
-  callChecked(get_rollout_, srv);
+  get_rollout_.call(srv);
   Rollout r;
   r.candidate = "context";
   for (const auto& f : srv.response.frames)
@@ -54,7 +54,7 @@ Rollout WorldModelClient::context() const {
 
 CheckpointId WorldModelClient::checkpoint() {
   valerant::Checkpoint srv;
-  callChecked(checkpoint_, srv);
+  checkpoint_.call(srv);
   current_ = srv.response.checkpoint_id;
   return current_;
 }
@@ -62,14 +62,14 @@ CheckpointId WorldModelClient::checkpoint() {
 void WorldModelClient::restore(CheckpointId id) {
   valerant::Restore srv;
   srv.request.checkpoint_id = id;
-  callChecked(restore_, srv);
+  restore_.call(srv);
   current_ = id;
 }
 
 void WorldModelClient::dropCheckpoint(CheckpointId id) {
   valerant::Drop srv;
   srv.request.checkpoint_id = id;
-  callChecked(drop_, srv);
+  drop_.call(srv);
 }
 
 Rollout WorldModelClient::rollout(const ActionSequence& actions) {
@@ -92,13 +92,13 @@ void WorldModelClient::commit(const Rollout& rollout) {
   valerant::Commit srv;
   srv.request.rollout_id = rollout.id;
   srv.request.candidate = rollout.candidate;
-  callChecked(commit_, srv);
+  commit_.call(srv);
   current_ = 0;
 }
 
 void WorldModelClient::reset() {
   valerant::Reset srv;
-  callChecked(reset_, srv);
+  reset_.call(srv);
   current_ = 0;
 }
 

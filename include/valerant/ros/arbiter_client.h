@@ -2,9 +2,9 @@
 // The BranchSelector interface over the policy_arbiter node's select_branch service
 // (which runs selectBranch() with the graph's policy config).
 #include <ros/node_handle.h>
-#include <ros/service_client.h>
 
 #include "valerant/explore/branch_selector.h"
+#include "valerant/ros/service_call.h"
 
 namespace valerant::bridge {
 
@@ -14,7 +14,7 @@ class ArbiterClient : public BranchSelector {
   int select(std::vector<BranchVerdict>& verdicts, uint64_t step_seed) override;
 
  private:
-  ::ros::ServiceClient client_;
+  ServiceLink client_;
 };
 
 }  // namespace valerant::bridge

@@ -15,6 +15,7 @@
 
 #include "valerant/config/config.h"
 #include "valerant/explore/branch_pipeline.h"
+#include "valerant/ros/service_call.h"
 
 namespace valerant::bridge {
 
@@ -35,11 +36,14 @@ class RosBranchPipeline : public BranchPipeline {
   // Calls `leaf` on every branch_slam and on the floor estimator, in parallel.
   template <class Service>
   void callAll(const std::string& leaf, const typename Service::Request& request);
+  // The floor estimator's and every branch_slam's service `leaf`.
+  static std::vector<std::string> allNames(const std::string& leaf);
   void onResult(const valerant::CandidateResult::ConstPtr& msg);
   BranchResult waitForResult(Rollout rollout, bool rotation_only);
 
   ::ros::NodeHandle nh_;
   double result_timeout_s_;
+  std::map<std::string, ServiceLink> links_;  // by service name; used by the episode's calls only
   std::vector<::ros::Subscriber> results_;
   std::mutex mutex_;
   std::condition_variable arrived_;

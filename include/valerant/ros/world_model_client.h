@@ -8,6 +8,7 @@
 #include <ros/node_handle.h>
 #include <valerant/RolloutAction.h>
 
+#include "valerant/ros/service_call.h"
 #include "valerant/world/world_model.h"
 
 namespace valerant::bridge {
@@ -30,7 +31,7 @@ class WorldModelClient : public WorldModel {
  private:
   ::ros::NodeHandle nh_;
   double rollout_timeout_s_;
-  mutable ::ros::ServiceClient checkpoint_, restore_, drop_, commit_, reset_, get_rollout_;
+  mutable ServiceLink checkpoint_, restore_, drop_, commit_, reset_, get_rollout_;
   actionlib::SimpleActionClient<valerant::RolloutAction> rollout_;
   CameraIntrinsics intrinsics_;
   CheckpointId current_ = 0;  // checkpoint the committed state stands at (0: none)
