@@ -26,6 +26,7 @@
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/guarded.h"
 #include "valerant/ros/service_call.h"
+#include "valerant/ros/node_main.h"
 #include "valerant/slam/slam_factory.h"
 
 using namespace valerant;
@@ -221,14 +222,4 @@ class BranchSlam {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  ::ros::init(argc, argv, "branch_slam");
-  try {
-    BranchSlam node(::ros::NodeHandle(), ::ros::NodeHandle("~"));
-    ::ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("branch_slam: " << e.what());
-    return 1;
-  }
-  return 0;
-}
+int main(int argc, char** argv) { return valerant::bridge::spinNode<BranchSlam>(argc, argv, "branch_slam"); }

@@ -11,6 +11,7 @@
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/graph_names.h"
+#include "valerant/ros/node_main.h"
 #include "valerant/world/action_sequence.h"
 
 using namespace valerant;
@@ -26,7 +27,7 @@ struct Branch {
 
 class CollisionChecker {
  public:
-  CollisionChecker(::ros::NodeHandle nh) : config_(valerant::bridge::loadGraphConfig(nh)) {
+  CollisionChecker(::ros::NodeHandle nh, ::ros::NodeHandle /*private: no parameters*/) : config_(valerant::bridge::loadGraphConfig(nh)) {
     for (const std::string& c : candidateNames()) {
       results_[c] = nh.advertise<valerant::CandidateResult>(valerant::bridge::branchName(c, "result"), 16);
       samples_.push_back(nh.subscribe<valerant::FloorSample>(
@@ -112,14 +113,4 @@ class CollisionChecker {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  ::ros::init(argc, argv, "collision_checker");
-  try {
-    CollisionChecker node{::ros::NodeHandle()};
-    ::ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("collision_checker: " << e.what());
-    return 1;
-  }
-  return 0;
-}
+int main(int argc, char** argv) { return valerant::bridge::spinNode<CollisionChecker>(argc, argv, "collision_checker"); }

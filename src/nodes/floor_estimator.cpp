@@ -22,6 +22,7 @@
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/guarded.h"
+#include "valerant/ros/node_main.h"
 #include "valerant/world/action_sequence.h"
 
 using namespace valerant;
@@ -186,14 +187,4 @@ class FloorEstimatorNode {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  ::ros::init(argc, argv, "floor_estimator");
-  try {
-    FloorEstimatorNode node(::ros::NodeHandle(), ::ros::NodeHandle("~"));
-    ::ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("floor_estimator: " << e.what());
-    return 1;
-  }
-  return 0;
-}
+int main(int argc, char** argv) { return valerant::bridge::spinNode<FloorEstimatorNode>(argc, argv, "floor_estimator"); }

@@ -23,6 +23,7 @@
 #include "valerant/map/map_fusion.h"
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_config.h"
+#include "valerant/ros/node_main.h"
 
 using namespace valerant;
 
@@ -216,14 +217,4 @@ class MapFusionNode {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  ::ros::init(argc, argv, "map_fusion");
-  try {
-    MapFusionNode node(::ros::NodeHandle(), ::ros::NodeHandle("~"));
-    ::ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("map_fusion: " << e.what());
-    return 1;
-  }
-  return 0;
-}
+int main(int argc, char** argv) { return valerant::bridge::spinNode<MapFusionNode>(argc, argv, "map_fusion"); }

@@ -27,6 +27,7 @@
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/guarded.h"
+#include "valerant/ros/node_main.h"
 #include "valerant/world/quake3/quake3_world.h"
 
 using namespace valerant;
@@ -318,14 +319,4 @@ class WorldModelServer {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  ::ros::init(argc, argv, "world_model_server");
-  try {
-    WorldModelServer server(::ros::NodeHandle(), ::ros::NodeHandle("~"));
-    ::ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("world_model_server: " << e.what());
-    return 1;
-  }
-  return 0;
-}
+int main(int argc, char** argv) { return valerant::bridge::spinNode<WorldModelServer>(argc, argv, "world_model_server"); }
