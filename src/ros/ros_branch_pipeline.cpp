@@ -1,6 +1,5 @@
 #include "valerant/ros/ros_branch_pipeline.h"
 
-#include <ros/service.h>
 #include <valerant/Checkpoint.h>
 #include <valerant/Commit.h>
 #include <valerant/Drop.h>
@@ -35,24 +34,26 @@ void addFrame(const valerant::SlamFrame& t, const valerant::Floor* floor, Branch
 
 RosBranchPipeline::RosBranchPipeline(::ros::NodeHandle nh, double connect_timeout_s, double result_timeout_s)
     : nh_(nh), result_timeout_s_(result_timeout_s) {
+  addLinks<valerant::Checkpoint>(allNames("checkpoint"));
+  addLinks<valerant::Restore>(allNames("restore"));
+  addLinks<valerant::Drop>(allNames("drop"));
+  addLinks<valerant::Commit>(allNames("commit"));
+  std::vector<std::string> track_context;
+  for (const std::string& c : candidateNames()) track_context.push_back(slamService(c, "track_context"));
+  addLinks<valerant::TrackContext>(track_context);
+  addLinks<valerant::FloorContext>({floorService("floor_context")});
+  addLinks<valerant::FloorAt>({floorService("floor_at")});
   const ::ros::Duration timeout(connect_timeout_s);
-  std::vector<std::string> services{floorService("checkpoint")};
-  for (const std::string& c : candidateNames()) services.push_back(slamService(c, "checkpoint"));
-  for (const std::string& s : services)
-    if (!::ros::service::waitForService(nh_.resolveName(s), timeout))
-      throw InputError("service " + nh_.resolveName(s), "not reachable (is the node running?)");
+  for (const std::string& name : allNames("checkpoint"))
+    if (!links_.at(name).waitForExistence(timeout))
+      throw InputError("service " + nh_.resolveName(name), "not reachable (is the node running?)");
   for (const std::string& c : candidateNames())
     results_.push_back(nh_.subscribe(branchName(c, "result"), 10, &RosBranchPipeline::onResult, this));
-  for (const std::string& name : allNames("checkpoint")) links_.emplace(name, ServiceLink::to<valerant::Checkpoint>(nh_, name));
-  for (const std::string& name : allNames("restore")) links_.emplace(name, ServiceLink::to<valerant::Restore>(nh_, name));
-  for (const std::string& name : allNames("drop")) links_.emplace(name, ServiceLink::to<valerant::Drop>(nh_, name));
-  for (const std::string& name : allNames("commit")) links_.emplace(name, ServiceLink::to<valerant::Commit>(nh_, name));
-  for (const std::string& c : candidateNames()) {
-    const std::string name = slamService(c, "track_context");
-    links_.emplace(name, ServiceLink::to<valerant::TrackContext>(nh_, name));
-  }
-  links_.emplace(floorService("floor_context"), ServiceLink::to<valerant::FloorContext>(nh_, floorService("floor_context")));
-  links_.emplace(floorService("floor_at"), ServiceLink::to<valerant::FloorAt>(nh_, floorService("floor_at")));
+}
+
+template <class Service>
+void RosBranchPipeline::addLinks(const std::vector<std::string>& names) {
+  for (const std::string& name : names) links_.emplace(name, ServiceLink::to<Service>(nh_, name));
 }
 
 std::vector<std::string> RosBranchPipeline::allNames(const std::string& leaf) {

@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -33,6 +34,14 @@ inline pid_t startChild(const std::vector<std::string>& argv, const std::string&
     _exit(127);
   }
   return pid;
+}
+
+// The path of `tool` built next to the running one (valerant_eval and valerant_bench
+// start valerant_explore from their own folder, never from PATH).
+inline std::string siblingTool(const std::string& tool) {
+  const std::filesystem::path path = std::filesystem::read_symlink("/proc/self/exe").parent_path() / tool;
+  if (!std::filesystem::exists(path)) throw InputError(path.string(), tool + " is not built next to this tool");
+  return path.string();
 }
 
 // Waits for `pid`; true when it exited with status 0.

@@ -49,7 +49,7 @@ class CliArgs {
     throw InputError(key + " " + get(key), "is not an integer");
   }
 
- // A comma-separated value ("uw,jw,lw"); empty items are dropped and an option that
+  // A comma-separated value ("uw,jw,lw"); empty items are dropped and an option that
   // names nothing is an error.
   std::vector<std::string> list(const std::string& key, const std::string& fallback) const {
     const std::string text = get(key, fallback);

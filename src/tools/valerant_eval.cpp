@@ -85,8 +85,7 @@ int main(int argc, char** argv) {
     if (jobs < 1) throw InputError("--jobs", "must be >= 1");
     const int budget = static_cast<int>(args.integer("--budget", config.policy.budget_steps));
     const std::string slam = args.get("--slam", config.slam.backend);
-    const std::string explore = (fs::read_symlink("/proc/self/exe").parent_path() / "valerant_explore").string();
-    if (!fs::exists(explore)) throw InputError(explore, "valerant_explore is not built next to valerant_eval");
+    const std::string explore = tools::siblingTool("valerant_explore");
 
     std::vector<const EvalRun*> todo;
     for (const auto& r : runs)

@@ -36,6 +36,9 @@ class RosBranchPipeline : public BranchPipeline {
   // Calls `leaf` on every branch_slam and on the floor estimator, in parallel.
   template <class Service>
   void callAll(const std::string& leaf, const typename Service::Request& request);
+  // A persistent link to each of `names`, all services of type `Service`.
+  template <class Service>
+  void addLinks(const std::vector<std::string>& names);
   // The floor estimator's and every branch_slam's service `leaf`.
   static std::vector<std::string> allNames(const std::string& leaf);
   void onResult(const valerant::CandidateResult::ConstPtr& msg);

@@ -64,8 +64,7 @@ nlohmann::json benchGraph(int argc, char** argv) {
   const std::string slam = args.get("--slam", config.slam.backend);
   const std::string budget = std::to_string(args.integer("--budget", 5));
   const std::string out = fs::absolute(args.required("--out")).string();
-  const std::string explore = (fs::read_symlink("/proc/self/exe").parent_path() / "valerant_explore").string();
-  if (!fs::exists(explore)) throw InputError(explore, "valerant_explore is not built next to valerant_bench");
+  const std::string explore = siblingTool("valerant_explore");
 
   const EpisodeRun in_process =
       runEpisode({explore, "--map", map, "--spawn", spawn, "--seed", seed, "--slam", slam, "--budget", budget,
