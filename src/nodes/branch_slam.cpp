@@ -1,6 +1,6 @@
-// branch_slam: the SLAM of the candidate branches named in ~candidates, one slot per
-// candidate. explore.launch runs all five in one process; distributed graphs may run
-// one per process (or machine). Each slot serves namespace branch/<c> on its own
+// branch_slam (nodelet valerant/BranchSlam): the SLAM of the candidate branches named
+// in ~candidates, one slot per candidate. graph.launch loads all five into the branch
+// nodelet manager; distributed graphs may run one per process (nodelet standalone). Each slot serves namespace branch/<c> on its own
 // callback queue and thread, so the five branches track in parallel:
 //   sub  branch/<c>/frames (valerant/Frame) -> pub branch/<c>/tracked, one per frame
 //   srv  branch/<c>/slam/track_context  a fresh SLAM on the world model's context
@@ -12,7 +12,9 @@
 //        and replayed (both backends are deterministic, so every slot ends in the same state)
 // Private parameters: candidates (list), connect_timeout_s.
 #include <algorithm>
+#include <boost/make_shared.hpp>
 #include <mutex>
+#include <pluginlib/class_list_macros.hpp>
 #include <optional>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
@@ -35,7 +37,7 @@
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/guarded.h"
-#include "valerant/ros/node_main.h"
+#include "valerant/ros/nodelet_of.h"
 #include "valerant/ros/service_call.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/action_sequence.h"
@@ -175,7 +177,7 @@ class BranchSlot {
       return;
     }
     try {
-      tracked_.publish(trackedMsg(key, track(*branch_, *frame), true));
+      tracked_.publish(boost::make_shared<valerant::SlamFrame>(trackedMsg(key, track(*branch_, *frame), true)));
     } catch (const std::exception& e) {
       publishError(key, e.what());
       failed_rollout_ = key.rollout_id;
@@ -324,4 +326,7 @@ class BranchSlam : public SlotHost {
 
 }  // namespace
 
-int main(int argc, char** argv) { return valerant::bridge::spinNode<BranchSlam>(argc, argv, "branch_slam"); }
+namespace valerant::nodes {
+using BranchSlamNodelet = valerant::bridge::NodeletOf<BranchSlam>;
+}
+PLUGINLIB_EXPORT_CLASS(valerant::nodes::BranchSlamNodelet, nodelet::Nodelet)

@@ -1,7 +1,8 @@
-// collision_checker: judges every branch (paper eqs. 6 and 7) with BranchCheck.
+// collision_checker (nodelet valerant/CollisionChecker): judges every branch (paper eqs. 6 and 7) with BranchCheck.
 //   sub branch/<c>/floor (valerant/FloorSample) -> pub branch/<c>/result
 //   (valerant/BranchResult) once the rollout's last frame is in, or at its first error.
 #include <optional>
+#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <valerant/CandidateResult.h>
 #include <valerant/FloorSample.h>
@@ -11,7 +12,7 @@
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/graph_names.h"
-#include "valerant/ros/node_main.h"
+#include "valerant/ros/nodelet_of.h"
 #include "valerant/world/action_sequence.h"
 
 using namespace valerant;
@@ -113,4 +114,7 @@ class CollisionChecker {
 
 }  // namespace
 
-int main(int argc, char** argv) { return valerant::bridge::spinNode<CollisionChecker>(argc, argv, "collision_checker"); }
+namespace valerant::nodes {
+using CollisionCheckerNodelet = valerant::bridge::NodeletOf<CollisionChecker>;
+}
+PLUGINLIB_EXPORT_CLASS(valerant::nodes::CollisionCheckerNodelet, nodelet::Nodelet)

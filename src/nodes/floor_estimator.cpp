@@ -1,10 +1,13 @@
-// floor_estimator: the robust floor estimator (RF) of every branch.
+// floor_estimator (nodelet valerant/FloorEstimator): the robust floor estimator (RF)
+// of every branch.
 //   sub  branch/<c>/tracked -> pub branch/<c>/floor (valerant/FloorSample, the tracked
 //        frame with its floor), for the five candidates
 //   srv  ~floor_context  a fresh estimator on the tracked context (episode start)
 //        ~checkpoint ~restore ~drop ~commit  the committed estimator, under the world's
 //        checkpoint ids; commit adopts the committed candidate's branch estimator
 //        ~floor_at  the committed floor at a pose (anchors the coverage grid)
+#include <boost/make_shared.hpp>
+#include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <valerant/Checkpoint.h>
 #include <valerant/Commit.h>
@@ -22,7 +25,7 @@
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/guarded.h"
-#include "valerant/ros/node_main.h"
+#include "valerant/ros/nodelet_of.h"
 #include "valerant/world/action_sequence.h"
 
 using namespace valerant;
@@ -116,7 +119,7 @@ class FloorEstimatorNode {
     }
     if (b.failed) return;
     try {
-      floors_.at(candidate).publish(sample(*b.floor, msg));
+      floors_.at(candidate).publish(boost::make_shared<valerant::FloorSample>(sample(*b.floor, msg)));
     } catch (const std::exception& e) {
       b.failed = true;
       publishError(candidate, msg, e.what());
@@ -187,4 +190,7 @@ class FloorEstimatorNode {
 
 }  // namespace
 
-int main(int argc, char** argv) { return valerant::bridge::spinNode<FloorEstimatorNode>(argc, argv, "floor_estimator"); }
+namespace valerant::nodes {
+using FloorEstimatorNodelet = valerant::bridge::NodeletOf<FloorEstimatorNode>;
+}
+PLUGINLIB_EXPORT_CLASS(valerant::nodes::FloorEstimatorNodelet, nodelet::Nodelet)

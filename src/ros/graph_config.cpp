@@ -1,5 +1,7 @@
 #include "valerant/ros/graph_config.h"
 
+#include <ros/param.h>
+
 #include "valerant/common/error.h"
 
 namespace valerant::bridge {
@@ -12,9 +14,12 @@ void override(const ::ros::NodeHandle& nh, const std::string& ns, const std::str
 }
 
 std::string configNamespace(const ::ros::NodeHandle& nh) {
+  // A nodelet in the root namespace gets a handle whose namespace is "", from which
+  // the master's parameter search finds nothing; "" means "/" here.
+  const std::string from = nh.getNamespace().empty() ? "/" : nh.getNamespace();
   std::string ns;
-  if (!nh.searchParam("valerant_config", ns))
-    throw InputError("parameter valerant_config", "not found above " + nh.getNamespace() + " (launch files set it)");
+  if (!::ros::param::search(from, "valerant_config", ns))
+    throw InputError("parameter valerant_config", "not found above " + from + " (launch files set it)");
   return ns;
 }
 
