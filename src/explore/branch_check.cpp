@@ -5,8 +5,10 @@
 
 namespace valerant {
 
-BranchCheck::BranchCheck(const Config& config)
-    : config_(config.collision), d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units) {}
+BranchCheck::BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> previous_step)
+    : config_(config.collision),
+      previous_step_(config.collision.previous_step_points ? std::move(previous_step) : nullptr),
+      d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units) {}
 
 void BranchCheck::add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor) {
   if (frame.state == TrackingState::kLost) lost_ = true;
@@ -53,6 +55,15 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
       for (const auto& p : kf.points)
         points.push_back({p.position.cast<double>(), floors[kf.frame].normalisedHeight(p.position.cast<double>()),
                           p.confidence});
+    const FloorPlane& start = floors.front();
+    if (previous_step_ && start.cameraHeight() > 0) {
+      const double radius = config_.body_radius * start.cameraHeight();
+      for (const auto& p : *previous_step_) {
+        const Eigen::Vector3d x = p.position.cast<double>();
+        if (start.axisDistanceSquared(x) <= radius * radius) continue;  // beside the body already
+        points.push_back({x, start.normalisedHeight(x), p.confidence});
+      }
+    }
     const PointCloudCollision pc = detectPointCloudCollision(points, floors, config_, rotation_only);
     v.collision_pc = pc.collision;
     v.occupied_max = pc.occupied_max;
@@ -64,6 +75,15 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
   v.min_near_ratio = dc.min_near_ratio;
   if (config_.depth_enabled) v.collision_depth = dc.collision;
   return v;
+}
+
+std::shared_ptr<const std::vector<CloudPoint>> previousStepPoints(const std::vector<KeyframeCloud>& keyframes,
+                                                                  const Config& config) {
+  auto points = std::make_shared<std::vector<CloudPoint>>();
+  for (const KeyframeCloud& kf : keyframes)
+    for (const CloudPoint& p : kf.points)
+      if (p.confidence >= config.collision.min_confidence) points->push_back(p);
+  return points;
 }
 
 }  // namespace valerant

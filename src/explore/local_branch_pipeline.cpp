@@ -1,6 +1,7 @@
 #include "valerant/explore/local_branch_pipeline.h"
 
 #include "valerant/common/error.h"
+#include "valerant/explore/branch_check.h"
 #include "valerant/explore/branch_evaluator.h"
 #include "valerant/explore/branch_stages.h"
 
@@ -28,17 +29,18 @@ BranchResult LocalBranchPipeline::start(const Rollout& context) {
   return out;
 }
 
-void LocalBranchPipeline::checkpoint(CheckpointId id) { saved_.save(id, Saved{slam_->snapshot(), floor_}); }
+void LocalBranchPipeline::checkpoint(CheckpointId id) { saved_.save(id, Saved{slam_->snapshot(), floor_, previous_step_}); }
 
 void LocalBranchPipeline::restore(CheckpointId id) {
   const Saved& s = saved_.at(id);
   slam_->restore(s.slam);
   floor_ = s.floor;
+  previous_step_ = s.previous_step;
 }
 
 std::future<BranchResult> LocalBranchPipeline::evaluate(Rollout rollout, bool rotation_only) {
   return std::async(std::launch::async, evaluateBranch, std::move(rollout), rotation_only, slam_->branch(), floor_,
-                    std::cref(config_));
+                    previous_step_, std::cref(config_));
 }
 
 void LocalBranchPipeline::commit(const BranchResult& chosen) {
@@ -47,6 +49,7 @@ void LocalBranchPipeline::commit(const BranchResult& chosen) {
     throw InputError("rollout " + std::to_string(chosen.rollout.id), "is no branch of this pipeline (or committed twice)");
   slam_ = std::move(branch->slam);
   floor_ = branch->floor;
+  previous_step_ = previousStepPoints(chosen.keyframes, config_);
 }
 
 }  // namespace valerant

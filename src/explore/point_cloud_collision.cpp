@@ -19,11 +19,7 @@ PointCloudCollision detectPointCloudCollision(const std::vector<HeightedPoint>& 
     int count = 0;
     if (kappa > 0) {
       const double radius2 = (config.body_radius * kappa) * (config.body_radius * kappa);
-      for (const auto& p : body) {
-        const Eigen::Vector3d v = p - s.c;
-        const Eigen::Vector3d horizontal = v - v.dot(s.n) * s.n;
-        count += horizontal.squaredNorm() <= radius2;
-      }
+      for (const auto& p : body) count += s.axisDistanceSquared(p) <= radius2;
     }
     result.occupied_max = std::max(result.occupied_max, count);
     run = count >= config.n_occ ? run + 1 : 0;

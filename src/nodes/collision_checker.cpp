@@ -1,21 +1,33 @@
 // collision_checker (nodelet valerant/CollisionChecker): judges every branch (paper eqs. 6 and 7) with BranchCheck.
 //   sub branch/<c>/floor (valerant/FloorSample) -> pub branch/<c>/result
 //   (valerant/BranchResult) once the rollout's last frame is in, or at its first error.
+//   srv ~reset  a new episode: no previous step
+//       ~checkpoint ~restore ~drop  the last committed step's points (BranchCheck's
+//       previous-step points), under the world's checkpoint ids
+//       ~commit  the committed candidate's keyframe points become the previous step's
 #include <optional>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
 #include <valerant/CandidateResult.h>
+#include <valerant/Checkpoint.h>
+#include <valerant/Commit.h>
+#include <valerant/Drop.h>
 #include <valerant/FloorSample.h>
+#include <valerant/Reset.h>
+#include <valerant/Restore.h>
 
 #include "valerant/common/error.h"
 #include "valerant/explore/branch_check.h"
+#include "valerant/explore/checkpoint_store.h"
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/graph_names.h"
+#include "valerant/ros/guarded.h"
 #include "valerant/ros/nodelet_of.h"
 #include "valerant/world/action_sequence.h"
 
 using namespace valerant;
+using valerant::bridge::guarded;
 
 namespace {
 
@@ -28,13 +40,18 @@ struct Branch {
 
 class CollisionChecker {
  public:
-  CollisionChecker(::ros::NodeHandle nh, ::ros::NodeHandle /*private: no parameters*/) : config_(valerant::bridge::loadGraphConfig(nh)) {
+  CollisionChecker(::ros::NodeHandle nh, ::ros::NodeHandle pnh) : config_(valerant::bridge::loadGraphConfig(nh)) {
     for (const std::string& c : candidateNames()) {
       results_[c] = nh.advertise<valerant::CandidateResult>(valerant::bridge::branchName(c, "result"), 16);
       samples_.push_back(nh.subscribe<valerant::FloorSample>(
           valerant::bridge::branchName(c, "floor"), 256,
           [this, c](const valerant::FloorSample::ConstPtr& msg) { onSample(c, *msg); }));
     }
+    services_ = {pnh.advertiseService("reset", &CollisionChecker::reset, this),
+                 pnh.advertiseService("checkpoint", &CollisionChecker::checkpoint, this),
+                 pnh.advertiseService("restore", &CollisionChecker::restore, this),
+                 pnh.advertiseService("drop", &CollisionChecker::drop, this),
+                 pnh.advertiseService("commit", &CollisionChecker::commit, this)};
   }
 
  private:
@@ -59,7 +76,7 @@ class CollisionChecker {
       return;
     }
     if (t.key.index == 0) {
-      b.check.emplace(config_);
+      b.check.emplace(config_, previous_step_);
       b.result = {};
       b.keyframe_at.clear();
       b.result.key = t.key;
@@ -106,10 +123,50 @@ class CollisionChecker {
     }
   }
 
+  bool reset(valerant::Reset::Request&, valerant::Reset::Response& res) {
+    return guarded("collision_checker/reset", res, [&] {
+      previous_step_.reset();
+      saved_.clear();
+      branches_.clear();
+    });
+  }
+
+  bool checkpoint(valerant::Checkpoint::Request& req, valerant::Checkpoint::Response& res) {
+    return guarded("collision_checker/checkpoint", res, [&] {
+      saved_.save(req.checkpoint_id, previous_step_);
+      res.checkpoint_id = req.checkpoint_id;
+    });
+  }
+
+  bool restore(valerant::Restore::Request& req, valerant::Restore::Response& res) {
+    return guarded("collision_checker/restore", res, [&] { previous_step_ = saved_.at(req.checkpoint_id); });
+  }
+
+  bool drop(valerant::Drop::Request& req, valerant::Drop::Response& res) {
+    return guarded("collision_checker/drop", res, [&] { saved_.drop(req.checkpoint_id); });
+  }
+
+  bool commit(valerant::Commit::Request& req, valerant::Commit::Response& res) {
+    return guarded("collision_checker/commit", res, [&] {
+      const auto it = branches_.find(req.candidate);
+      if (it == branches_.end() || !it->second.done || it->second.result.key.rollout_id != req.rollout_id ||
+          !it->second.result.error.empty())
+        throw InputError("rollout " + std::to_string(req.rollout_id) + " of '" + req.candidate + "'",
+                         "no such branch was judged since the latest checkpoint");
+      std::vector<KeyframeCloud> keyframes;
+      for (const auto& cloud : it->second.result.keyframes)
+        keyframes.push_back({0, 0, Eigen::Isometry3d::Identity(), valerant::bridge::fromCloudMsg(cloud)});
+      previous_step_ = previousStepPoints(keyframes, config_);
+    });
+  }
+
   Config config_;
+  std::shared_ptr<const std::vector<CloudPoint>> previous_step_;  // the last commit's points
+  CheckpointStore<std::shared_ptr<const std::vector<CloudPoint>>> saved_;
   std::map<std::string, Branch> branches_;
   std::map<std::string, ::ros::Publisher> results_;
   std::vector<::ros::Subscriber> samples_;
+  std::vector<::ros::ServiceServer> services_;
 };
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <valerant/Drop.h>
 #include <valerant/FloorAt.h>
 #include <valerant/FloorContext.h>
+#include <valerant/Reset.h>
 #include <valerant/Restore.h>
 #include <valerant/TrackContext.h>
 
@@ -20,6 +21,7 @@ std::string slamService(const std::string& candidate, const std::string& leaf) {
   return branchName(candidate, "slam/" + leaf);
 }
 std::string floorService(const std::string& leaf) { return std::string(kFloorEstimator) + "/" + leaf; }
+std::string checkerService(const std::string& leaf) { return std::string(kCollisionChecker) + "/" + leaf; }
 
 // The tracked frames' poses, keyframes and floors as a BranchResult.
 void addFrame(const valerant::SlamFrame& t, const valerant::Floor* floor, BranchResult& out) {
@@ -43,6 +45,7 @@ RosBranchPipeline::RosBranchPipeline(::ros::NodeHandle nh, double connect_timeou
   addLinks<valerant::TrackContext>(track_context);
   addLinks<valerant::FloorContext>({floorService("floor_context")});
   addLinks<valerant::FloorAt>({floorService("floor_at")});
+  addLinks<valerant::Reset>({checkerService("reset")});
   const ::ros::Duration timeout(connect_timeout_s);
   for (const std::string& name : allNames("checkpoint"))
     if (!links_.at(name).waitForExistence(timeout))
@@ -57,7 +60,7 @@ void RosBranchPipeline::addLinks(const std::vector<std::string>& names) {
 }
 
 std::vector<std::string> RosBranchPipeline::allNames(const std::string& leaf) {
-  std::vector<std::string> names{floorService(leaf)};
+  std::vector<std::string> names{floorService(leaf), checkerService(leaf)};
   for (const std::string& c : candidateNames()) names.push_back(slamService(c, leaf));
   return names;
 }
@@ -89,6 +92,9 @@ BranchResult RosBranchPipeline::start(const Rollout& context) {
   for (const auto& t : tracked)
     if (t.response.frames.size() != tracked.front().response.frames.size())
       throw InputError("branch_slam nodes", "disagree on the context (different frame counts)");
+
+  valerant::Reset reset;
+  links_.at(checkerService("reset")).call(reset);
 
   valerant::FloorContext floor;
   floor.request.frames = tracked.front().response.frames;

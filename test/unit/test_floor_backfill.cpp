@@ -52,7 +52,7 @@ KeyframeCloud floorPatch(double z) {
 }  // namespace
 
 TEST(FloorBackfill, FramesBeforeTheFirstFloorTakeItsRelation) {
-  BranchCheck check{Config()};
+  BranchCheck check{Config(), nullptr};
   const KeyframeCloud patch = floorPatch(0.2);
   for (int i = 0; i < 10; ++i) {
     const TrackedFrame f = frameAt(0.1 * i);
@@ -73,7 +73,7 @@ TEST(FloorBackfill, FramesBeforeTheFirstFloorTakeItsRelation) {
 }
 
 TEST(FloorBackfill, TranslationWithoutAnyFloorIsUnknownRotationIsNot) {
-  BranchCheck check{Config()};
+  BranchCheck check{Config(), nullptr};
   const KeyframeCloud patch = floorPatch(0.2);
   for (int i = 0; i < 10; ++i) {
     const TrackedFrame f = frameAt(0.1 * i);

@@ -14,6 +14,15 @@
 // holds there too. A translation whose branch never accepts a floor cannot be judged
 // and is marked floor_unknown (inadmissible); rotations need no floor (eq. 6 exempts
 // them and they do not advance for eq. 7).
+//
+// Previous-step points ([ours], collision.previous_step_points): a camera looking
+// forward does not see a wall right beside it, so a step that starts along a wall
+// scrapes it with none of the branch's own points in the body cylinder. The confident
+// points of the last committed step (the same SLAM scale as the branch) are counted
+// too, with heights from the branch's first floor; points already inside the body
+// cylinder at the start are left out, so standing beside a wall does not block
+// every move. Only the last step's points: older ones may predate a SLAM re-scale.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,7 +36,8 @@ namespace valerant {
 
 class BranchCheck {
  public:
-  explicit BranchCheck(const Config& config);
+  // `previous_step`: the last committed step's points (null or empty: none).
+  BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> previous_step);
   // `keyframe`: the keyframe cloud this frame made (null if none); `floor`: its floor.
   void add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor);
   size_t frames() const { return samples_.size(); }
@@ -43,6 +53,7 @@ class BranchCheck {
     std::vector<CloudPoint> points;
   };
   CollisionConfig config_;
+  std::shared_ptr<const std::vector<CloudPoint>> previous_step_;
   double d_fwd_normalised_;
   std::vector<FloorPlane> samples_;
   std::vector<Eigen::Isometry3d> poses_;
@@ -50,5 +61,10 @@ class BranchCheck {
   std::vector<KeyframePoints> keyframes_;
   bool lost_ = false;
 };
+
+// The points of a committed step that the next step's check counts: every keyframe
+// point with confidence >= collision.min_confidence (the eq. 6 cut).
+std::shared_ptr<const std::vector<CloudPoint>> previousStepPoints(const std::vector<KeyframeCloud>& keyframes,
+                                                                  const Config& config);
 
 }  // namespace valerant

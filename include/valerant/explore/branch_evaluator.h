@@ -21,8 +21,9 @@ struct LocalBranch : BranchHandle {
   FloorEstimator floor;
 };
 
-// `slam` and `floor` are the branch's own copies of the committed state.
+// `slam` and `floor` are the branch's own copies of the committed state;
+// `previous_step` the last committed step's points (BranchCheck).
 BranchResult evaluateBranch(Rollout rollout, bool rotation_only, std::unique_ptr<Slam> slam, FloorEstimator floor,
-                            const Config& config);
+                            std::shared_ptr<const std::vector<CloudPoint>> previous_step, const Config& config);
 
 }  // namespace valerant

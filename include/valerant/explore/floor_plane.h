@@ -21,6 +21,11 @@ struct FloorPlane {
   // kappa: camera-to-floor distance in map units.
   double cameraHeight() const { return n.dot(c - q); }
   double normalisedHeight(const Eigen::Vector3d& p) const { return n.dot(p - q) / cameraHeight(); }
+  // Squared distance of p from the body axis (the line through c along n), map units.
+  double axisDistanceSquared(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d v = p - c;
+    return (v - v.dot(n) * n).squaredNorm();
+  }
 };
 
 }  // namespace valerant

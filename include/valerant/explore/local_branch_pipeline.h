@@ -30,10 +30,12 @@ class LocalBranchPipeline : public BranchPipeline {
   struct Saved {
     std::shared_ptr<const SlamState> slam;
     FloorEstimator floor;
+    std::shared_ptr<const std::vector<CloudPoint>> previous_step;
   };
   Config config_;
   std::unique_ptr<Slam> slam_;
   FloorEstimator floor_;
+  std::shared_ptr<const std::vector<CloudPoint>> previous_step_;  // the last commit's points (BranchCheck)
   CheckpointStore<Saved> saved_;
 };
 

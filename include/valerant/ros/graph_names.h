@@ -9,6 +9,7 @@
 //   branch/<c>/floor -> collision_checker -> branch/<c>/result -> explorer
 //   branch/<c>/slam/{checkpoint,restore,drop,commit,track_context}  services
 //   floor_estimator/{checkpoint,restore,drop,commit,floor_context,floor_at}
+//   collision_checker/{checkpoint,restore,drop,commit,reset}
 //   policy_arbiter/select_branch, explorer/explore (action)
 //   decision, map_update (explorer -> map_fusion) and map/* (map_fusion)
 #include <string>
@@ -20,6 +21,7 @@ inline std::string branchName(const std::string& candidate, const std::string& l
 }
 inline const char* kWorldModel = "world_model";
 inline const char* kFloorEstimator = "floor_estimator";
+inline const char* kCollisionChecker = "collision_checker";
 inline const char* kPolicyArbiter = "policy_arbiter";
 
 }  // namespace valerant::bridge

@@ -1,7 +1,7 @@
 #pragma once
 // The BranchPipeline interface over the node graph: checkpoints, restores, drops and
-// commits go to the five branch_slam nodes and the floor_estimator (in parallel, all
-// under the world model's checkpoint id); a candidate's evaluation is the BranchResult
+// commits go to the five branch SLAMs, the floor_estimator and the collision_checker
+// (in parallel, all under the world model's checkpoint id); a candidate's evaluation is the BranchResult
 // that collision_checker publishes once the candidate's frames have passed
 // branch_slam -> floor_estimator -> collision_checker.
 #include <condition_variable>
@@ -33,13 +33,14 @@ class RosBranchPipeline : public BranchPipeline {
   FloorPlane floorAt(const Eigen::Isometry3d& camera_to_map) override;
 
  private:
-  // Calls `leaf` on every branch_slam and on the floor estimator, in parallel.
+  // Calls `leaf` on every branch SLAM, the floor estimator and the collision checker,
+  // in parallel.
   template <class Service>
   void callAll(const std::string& leaf, const typename Service::Request& request);
   // A persistent link to each of `names`, all services of type `Service`.
   template <class Service>
   void addLinks(const std::vector<std::string>& names);
-  // The floor estimator's and every branch_slam's service `leaf`.
+  // The floor estimator's, the collision checker's and every branch SLAM's service `leaf`.
   static std::vector<std::string> allNames(const std::string& leaf);
   void onResult(const valerant::CandidateResult::ConstPtr& msg);
   BranchResult waitForResult(Rollout rollout, bool rotation_only);

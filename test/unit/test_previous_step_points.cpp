@@ -1,0 +1,86 @@
+// BranchCheck's previous-step points: a wall beside the path that the branch's own
+// camera never saw. Map frame = the first camera's optical frame (y down); the floor is
+// y = 0.5, so kappa = 0.5 and the body radius rho = 0.21 is 0.105 map units. The camera
+// walks z = 0 .. 0.9 in steps of 0.1. The wall: x = 0.08 (inside the body radius),
+// y = 0.05 .. 0.35 in 4 rows (normalised heights 0.3 .. 0.9, inside [0.18, 1.19]).
+#include <gtest/gtest.h>
+
+#include "valerant/explore/branch_check.h"
+
+using namespace valerant;
+
+namespace {
+
+constexpr double kFloorY = 0.5;
+
+TrackedFrame frameAt(double z) {
+  TrackedFrame f;
+  f.state = TrackingState::kTracking;
+  f.camera_to_map.translation() = Eigen::Vector3d(0, 0, z);
+  return f;
+}
+
+FloorPlane floorUnder(const Eigen::Vector3d& c) {
+  FloorPlane p;
+  p.c = c;
+  p.n = {0, -1, 0};
+  p.q = {c.x(), kFloorY, c.z()};
+  p.reliable = true;
+  return p;
+}
+
+// Wall points at x = 0.08 for z in [z0, z1] every 0.01, 4 rows, confidence 10.
+std::shared_ptr<const std::vector<CloudPoint>> wall(double z0, double z1) {
+  auto points = std::make_shared<std::vector<CloudPoint>>();
+  for (double z = z0; z <= z1 + 1e-9; z += 0.01)
+    for (double y : {0.05, 0.15, 0.25, 0.35})
+      points->push_back({Eigen::Vector3f(0.08f, static_cast<float>(y), static_cast<float>(z)), {}, 10.f});
+  return points;
+}
+
+// A forward branch with no keyframe points of its own.
+BranchVerdict walk(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> previous, bool rotation_only) {
+  BranchCheck check(config, std::move(previous));
+  for (int i = 0; i < 10; ++i) {
+    const TrackedFrame f = frameAt(0.1 * i);
+    check.add(f, nullptr, floorUnder(f.camera_to_map.translation()));
+  }
+  return check.finish(rotation_only ? "jq" : "uw", rotation_only);
+}
+
+}  // namespace
+
+// Wall from z = 0.3 to 0.9. At a sample z_i the wall points within 0.105 of the axis
+// have |z - z_i| <= sqrt(0.105^2 - 0.08^2) = 0.068: 13 z values x 4 rows = 52 >= N_occ
+// (30) at every sample from z = 0.4 on, so two consecutive samples fire.
+TEST(PreviousStepPoints, WallBesideThePathIsACollision) {
+  const BranchVerdict with = walk(Config(), wall(0.3, 0.9), false);
+  EXPECT_TRUE(with.collision_pc);
+  EXPECT_EQ(with.occupied_max, 52);
+  // The branch's own points alone show nothing.
+  EXPECT_FALSE(walk(Config(), nullptr, false).collision_pc);
+  Config off;
+  off.collision.previous_step_points = false;
+  EXPECT_FALSE(walk(off, wall(0.3, 0.9), false).collision_pc);
+}
+
+TEST(PreviousStepPoints, RotationsStayExempt) { EXPECT_FALSE(walk(Config(), wall(0.3, 0.9), true).collision_pc); }
+
+// Standing beside a wall: points within the body radius at the start (z = -0.05 ..
+// 0.05: at most sqrt(0.08^2 + 0.05^2) = 0.094 <= 0.105 from the start axis) are left
+// out, though the sample at z = 0.1 would otherwise count them (distance 0.094 again).
+TEST(PreviousStepPoints, PointsBesideTheStartAreLeftOut) {
+  const BranchVerdict v = walk(Config(), wall(-0.05, 0.05), false);
+  EXPECT_FALSE(v.collision_pc);
+  EXPECT_EQ(v.occupied_max, 0);
+}
+
+TEST(PreviousStepPoints, KeepsOnlyConfidentKeyframePoints) {
+  KeyframeCloud a, b;
+  a.points = {{Eigen::Vector3f(1, 0, 0), {}, 10.f}, {Eigen::Vector3f(2, 0, 0), {}, 1.f}};
+  b.points = {{Eigen::Vector3f(3, 0, 0), {}, 4.f}};
+  const auto kept = previousStepPoints({a, b}, Config());
+  ASSERT_EQ(kept->size(), 2u);
+  EXPECT_FLOAT_EQ((*kept)[0].position.x(), 1.f);
+  EXPECT_FLOAT_EQ((*kept)[1].position.x(), 3.f);
+}
