@@ -5,19 +5,14 @@
 #include <gtest/gtest.h>
 
 #include "valerant/explore/branch_check.h"
+#include "walking_branch.h"
 
 using namespace valerant;
+using valerant::test::trackedAtZ;
 
 namespace {
 
 constexpr double kHeight = 0.5;
-
-TrackedFrame frameAt(double z) {
-  TrackedFrame f;
-  f.state = TrackingState::kTracking;
-  f.camera_to_map.translation() = Eigen::Vector3d(0, 0, z);
-  return f;
-}
 
 // What FloorEstimator::at gives before any floor: distance 1 along -y, unknown.
 FloorPlane placeholder(const Eigen::Vector3d& c) {
@@ -29,14 +24,7 @@ FloorPlane placeholder(const Eigen::Vector3d& c) {
   return p;
 }
 
-FloorPlane trueFloor(const Eigen::Vector3d& c) {
-  FloorPlane p;
-  p.c = c;
-  p.n = {0, -1, 0};
-  p.q = {c.x(), kHeight, c.z()};
-  p.reliable = true;
-  return p;
-}
+FloorPlane trueFloor(const Eigen::Vector3d& c) { return valerant::test::floorBelow(c, kHeight); }
 
 // 400 confident floor points (y = 0.5) within 0.05 of the body axis at z: the
 // placeholder puts them at h = 0.5, inside the body band, and 400 >= 300 would be a
@@ -55,7 +43,7 @@ TEST(FloorBackfill, FramesBeforeTheFirstFloorTakeItsRelation) {
   BranchCheck check{Config(), nullptr};
   const KeyframeCloud patch = floorPatch(0.2);
   for (int i = 0; i < 10; ++i) {
-    const TrackedFrame f = frameAt(0.1 * i);
+    const TrackedFrame f = trackedAtZ(0.1 * i);
     const Eigen::Vector3d c = f.camera_to_map.translation();
     check.add(f, i == 2 ? &patch : nullptr, i < 5 ? placeholder(c) : trueFloor(c));
   }
@@ -76,7 +64,7 @@ TEST(FloorBackfill, TranslationWithoutAnyFloorIsUnknownRotationIsNot) {
   BranchCheck check{Config(), nullptr};
   const KeyframeCloud patch = floorPatch(0.2);
   for (int i = 0; i < 10; ++i) {
-    const TrackedFrame f = frameAt(0.1 * i);
+    const TrackedFrame f = trackedAtZ(0.1 * i);
     check.add(f, i == 2 ? &patch : nullptr, placeholder(f.camera_to_map.translation()));
   }
   EXPECT_FALSE(check.floors().front().known);

@@ -6,28 +6,15 @@
 #include <gtest/gtest.h>
 
 #include "valerant/explore/branch_check.h"
+#include "walking_branch.h"
 
 using namespace valerant;
+using valerant::test::trackedAtZ;
 
 namespace {
 
 constexpr double kFloorY = 0.5;
 
-TrackedFrame frameAt(double z) {
-  TrackedFrame f;
-  f.state = TrackingState::kTracking;
-  f.camera_to_map.translation() = Eigen::Vector3d(0, 0, z);
-  return f;
-}
-
-FloorPlane floorUnder(const Eigen::Vector3d& c) {
-  FloorPlane p;
-  p.c = c;
-  p.n = {0, -1, 0};
-  p.q = {c.x(), kFloorY, c.z()};
-  p.reliable = true;
-  return p;
-}
 
 // Wall points at x = 0.08 for z in [z0, z1] every 0.01, 4 rows, confidence 10.
 std::shared_ptr<const std::vector<CloudPoint>> wall(double z0, double z1) {
@@ -42,8 +29,8 @@ std::shared_ptr<const std::vector<CloudPoint>> wall(double z0, double z1) {
 BranchVerdict walk(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> previous, bool rotation_only) {
   BranchCheck check(config, std::move(previous));
   for (int i = 0; i < 10; ++i) {
-    const TrackedFrame f = frameAt(0.1 * i);
-    check.add(f, nullptr, floorUnder(f.camera_to_map.translation()));
+    const TrackedFrame f = trackedAtZ(0.1 * i);
+    check.add(f, nullptr, valerant::test::floorBelow(f.camera_to_map.translation(), kFloorY));
   }
   return check.finish(rotation_only ? "jq" : "uw", rotation_only);
 }
