@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace valerant {
 namespace {
@@ -50,9 +51,16 @@ MapAccuracy mapAccuracy(const std::vector<Eigen::Vector3d>& map_points_m,
     a.p90_m = quantile(distances, 0.9);
   }
 
+  bool any_depth = false;
+  for (const FrameTruth& frame : committed) any_depth |= !frame.depth_m.empty();
+  if (!any_depth) {
+    a.completeness_percent = std::numeric_limits<double>::quiet_NaN();
+    return a;
+  }
   std::vector<bool> seen(samples.size(), false);
   for (size_t f = 0; f < committed.size(); f += params.frame_stride) {
     const FrameTruth& frame = committed[f];
+    if (frame.depth_m.empty()) continue;
     Eigen::Isometry3d world_to_camera = frame.camera_to_world.inverse();
     for (size_t i = 0; i < samples.size(); ++i) {
       if (seen[i]) continue;

@@ -58,3 +58,15 @@ TEST(MapAccuracy, CompletenessOfWhatTheCameraSaw) {
   const MapAccuracy empty = mapAccuracy({}, floorSamples(), {downCamera(k)}, k);
   EXPECT_EQ(empty.completeness_percent, 0.0);
 }
+
+// Truth poses without depth (what the graph's explorer has): completeness is not
+// measured (NaN), while accuracy still is.
+TEST(MapAccuracy, CompletenessNeedsDepthTruth) {
+  const CameraIntrinsics k = CameraIntrinsics::fromHorizontalFov(64, 64, 90);
+  FrameTruth pose_only = downCamera(k);
+  pose_only.depth_m = cv::Mat();
+  const MapAccuracy a = mapAccuracy({{0, 0, 0.1}}, floorSamples(), {pose_only}, k);
+  EXPECT_TRUE(std::isnan(a.completeness_percent));
+  EXPECT_EQ(a.seen_samples, 0);
+  EXPECT_NEAR(a.median_m, 0.1, 1e-6);
+}

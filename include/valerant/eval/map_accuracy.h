@@ -5,7 +5,9 @@
 //    point-to-surface distance up to half the sample spacing.
 //  - completeness: of the surface samples the committed cameras saw (a sample is seen
 //    when it projects into a committed frame and the ground-truth depth there agrees
-//    with its own depth), the share with a map point within `within_m`.
+//    with its own depth), the share with a map point within `within_m`. NaN (not
+//    measured, written as null) when no committed frame carries its depth truth: the
+//    graph's explorer gets truth poses without depth, to keep the rollout results small.
 // Map points must already be in the BSP frame, in metres.
 #include <Eigen/Core>
 #include <vector>
