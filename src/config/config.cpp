@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "valerant/common/error.h"
+#include "valerant/common/joined.h"
 
 namespace valerant {
 namespace {
@@ -55,9 +56,7 @@ class Section {
   void choice(const char* key, std::string& field, const std::set<std::string>& allowed) {
     string(key, field);
     if (!allowed.empty() && !allowed.count(field)) {
-      std::string list;
-      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      fail(name(key), "'" + field + "' is not one of: " + list);
+      fail(name(key), "'" + field + "' is not one of: " + joined(allowed));
     }
   }
 

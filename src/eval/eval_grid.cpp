@@ -4,6 +4,7 @@
 #include <map>
 
 #include "valerant/common/error.h"
+#include "valerant/common/joined.h"
 
 namespace valerant {
 namespace {
@@ -42,9 +43,7 @@ std::vector<EvalRun> makeEvalGrid(const std::vector<std::string>& maps, int spaw
   if (spawns < 1) throw InputError("--spawns", "must be >= 1");
   for (const auto& c : configs)
     if (!configOptions().count(c)) {
-      std::string known;
-      for (const auto& k : knownEvalConfigs()) known += (known.empty() ? "" : ", ") + k;
-      throw InputError("configuration '" + c + "'", "unknown (known: " + known + ")");
+      throw InputError("configuration '" + c + "'", "unknown (known: " + joined(knownEvalConfigs()) + ")");
     }
   std::vector<EvalRun> runs;
   for (const auto& map : maps)

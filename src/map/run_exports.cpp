@@ -12,6 +12,7 @@
 
 #include "valerant/common/contact_sheet.h"
 #include "valerant/common/error.h"
+#include "valerant/common/joined.h"
 #include "valerant/common/output_file.h"
 #include "valerant/map/map_exports.h"
 #include "valerant/map/mesh_exports.h"
@@ -35,12 +36,6 @@ const std::vector<std::string>& filesOf(const std::string& format) {
   for (const auto& [name, files] : formatTable())
     if (name == format) return files;
   throw InputError("export format '" + format + "'", "unknown");
-}
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
 }
 
 void writeRgbPng(const std::string& path, const cv::Mat& rgb) {

@@ -31,6 +31,7 @@
 #include <valerant/TrackContext.h>
 
 #include "valerant/common/error.h"
+#include "valerant/common/joined.h"
 #include "valerant/explore/branch_stages.h"
 #include "valerant/explore/checkpoint_store.h"
 #include "valerant/ros/conversions.h"
@@ -286,7 +287,7 @@ class BranchSlam : public SlotHost {
     }
     ROS_INFO_STREAM("branch_slam: " << config_.slam.backend << " SLAM, " << intrinsics.width << "x" << intrinsics.height
                                     << ", branches " << ::ros::names::append(nh.getNamespace(), "branch") << "/{"
-                                    << joined(candidates) << "}");
+                                    << joined(candidates, ",") << "}");
   }
 
   std::optional<ChosenBranch> chosenBranch(RolloutId rollout_id, const std::string& candidate) override {
@@ -310,12 +311,6 @@ class BranchSlam : public SlotHost {
     intrinsics.height = static_cast<int>(info->height);
     intrinsics.fx = info->K[0], intrinsics.cx = info->K[2], intrinsics.fy = info->K[4], intrinsics.cy = info->K[5];
     return intrinsics;
-  }
-
-  static std::string joined(const std::vector<std::string>& names) {
-    std::string out;
-    for (const auto& n : names) out += (out.empty() ? "" : ",") + n;
-    return out;
   }
 
   Config config_;

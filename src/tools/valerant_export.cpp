@@ -15,6 +15,7 @@
 
 #include "cli_args.h"
 #include "valerant/common/error.h"
+#include "valerant/common/joined.h"
 #include "valerant/common/output_file.h"
 #include "valerant/common/tum_trajectory.h"
 #include "valerant/eval/trajectory_metrics.h"
@@ -78,11 +79,7 @@ int main(int argc, char** argv) {
   try {
     tools::CliArgs args(argc, argv, {"--run", "--out", "--formats"}, {"--force"});
     const std::string run_dir = args.required("--run"), out = args.required("--out");
-    const std::vector<std::string> formats = parseFormats(args.get("--formats", [] {
-      std::string all;
-      for (const auto& f : exportFormats()) all += (all.empty() ? "" : ",") + f;
-      return all;
-    }()));
+    const std::vector<std::string> formats = parseFormats(args.get("--formats", joined(exportFormats(), ",")));
     const bool overwrite = args.has("--force");
     if (fs::exists(out) && fs::exists(run_dir) && fs::equivalent(out, run_dir))
       throw InputError("--out " + out, "is the run directory; its files are the export's input");
