@@ -34,7 +34,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
   for (const auto& config : configs) {
     ConfigSummary s;
     s.config = config;
-    std::vector<int> curve_counts;
+    std::vector<std::vector<double>> curves;
     double predicted = 0, truly = 0, false_rejections = 0, missed = 0;
     for (const auto& r : results) {
       if (r.run.config != config) continue;
@@ -68,17 +68,8 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
       s.wall_seconds += number(r.report, "wall_seconds");
       const double wall = number(r.report, "wall_seconds");
       s.frames_per_second += wall > 0 ? number(r.report, "frames_rendered") / wall : 0.0;
-      if (g.contains("observed_percent_by_step")) {
-        const auto& curve = g["observed_percent_by_step"];
-        for (size_t i = 0; i < curve.size(); ++i) {
-          if (s.observed_by_step.size() <= i) {
-            s.observed_by_step.push_back(0);
-            curve_counts.push_back(0);
-          }
-          s.observed_by_step[i] += curve[i].get<double>();
-          ++curve_counts[i];
-        }
-      }
+      if (g.contains("observed_percent_by_step") && !g["observed_percent_by_step"].empty())
+        curves.push_back(g["observed_percent_by_step"].get<std::vector<double>>());
     }
     if (s.runs > 0) {
       for (double* v : {&s.observed_percent, &s.observed_m2, &s.observed_m2_per_clean_step, &s.penetrations, &s.rewinds,
@@ -90,7 +81,14 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     }
     if (predicted > 0) s.verdict_precision = (predicted - false_rejections) / predicted;
     if (truly > 0) s.verdict_recall = (truly - missed) / truly;
-    for (size_t i = 0; i < s.observed_by_step.size(); ++i) s.observed_by_step[i] /= curve_counts[i];
+    // A run that ended early (budget of steps not used up, or a stall) keeps its last
+    // value, so the mean curve is over every run at every step and never drops because
+    // a run stopped.
+    size_t longest = 0;
+    for (const auto& c : curves) longest = std::max(longest, c.size());
+    s.observed_by_step.assign(longest, 0.0);
+    for (const auto& c : curves)
+      for (size_t i = 0; i < longest; ++i) s.observed_by_step[i] += c[std::min(i, c.size() - 1)] / curves.size();
     out.push_back(s);
   }
   return out;

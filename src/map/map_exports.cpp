@@ -60,9 +60,12 @@ void writeCloudPcd(const std::string& path, const std::vector<FusedPoint>& point
   if (pcl::io::savePCDFileBinary(path, toPcl(points)) != 0) throw InputError(path, "PCL could not write the PCD");
 }
 
-void writeOctreeBt(const std::string& path, octomap::ColorOcTree& tree, bool overwrite) {
+void writeOctreeBt(const std::string& path, const octomap::ColorOcTree& tree, bool overwrite) {
   requireWritable(path, overwrite);
-  if (!tree.writeBinary(path)) throw InputError(path, "OctoMap could not write the .bt file");
+  // writeBinary thresholds and prunes the tree it writes, which would change a live
+  // tree's later updates (live_map.h); a copy is written instead.
+  octomap::ColorOcTree copy(tree);
+  if (!copy.writeBinary(path)) throw InputError(path, "OctoMap could not write the .bt file");
 }
 
 void writeFloorGrid(const std::string& stem, const FloorGrid& grid, bool overwrite) {

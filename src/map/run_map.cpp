@@ -190,6 +190,7 @@ RunMap loadRunMap(const std::string& dir) {
   std::vector<std::shared_ptr<FusedKeyframe>> keyframes;
   for (const auto& pose : keyframe_poses) {
     keyframes.push_back(std::make_shared<FusedKeyframe>());
+    keyframes.back()->id = newKeyframeId();
     keyframes.back()->camera_to_map = pose;
   }
   for (const auto& q : cloud) {

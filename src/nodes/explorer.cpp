@@ -173,6 +173,7 @@ class Explorer {
     m.header.frame_id = "map";
     m.step = static_cast<uint32_t>(step);
     for (const auto& kf : episode.map().keyframes()) {
+      m.keyframe_ids.push_back(kf->id);
       m.keyframes.push_back(valerant::bridge::toFusedCloudMsg(kf->points, "map"));
       m.keyframe_poses.push_back(valerant::bridge::toMsg(kf->camera_to_map));
     }

@@ -1,5 +1,6 @@
-// map_fusion: the explorer's global map as ROS products, rebuilt after every step with
-// the same MapFusion code the explorer and valerant_explore use.
+// map_fusion: the explorer's global map as ROS products, extended after every step by
+// the new keyframes (LiveMap; rebuilt after a rewind) with the same product code as
+// MapFusion in the explorer and valerant_explore.
 //   sub map_update (valerant/MapUpdate), decision (valerant/Decision)
 //   pub (latched) map/cloud (PointCloud2 x y z rgb confidence, voxel-filtered),
 //       map/octomap (occupied OctoMap voxel centres as a cloud), map/grid
@@ -20,7 +21,7 @@
 #include "valerant/common/error.h"
 #include "valerant/explore/coverage_grid.h"
 #include "valerant/map/map_exports.h"
-#include "valerant/map/map_fusion.h"
+#include "valerant/map/live_map.h"
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/node_main.h"
@@ -68,22 +69,38 @@ class MapFusionNode {
       if (m->keyframes.size() != m->keyframe_poses.size())
         throw InputError("map update " + std::to_string(m->step), "keyframes and poses differ in number");
       if (m->failed_cells.size() % 2) throw InputError("map update " + std::to_string(m->step), "odd failed-cell list");
-      MapFusion map(config_.map, config_.collision);
-      for (size_t i = 0; i < m->keyframes.size(); ++i) {
-        auto kf = std::make_shared<FusedKeyframe>();
-        kf->camera_to_map = valerant::bridge::fromMsg(m->keyframe_poses[i]);
-        kf->points = valerant::bridge::fromFusedCloudMsg(m->keyframes[i]);
-        map.add(kf);
-      }
+      if (m->keyframe_ids.size() != m->keyframes.size())
+        throw InputError("map update " + std::to_string(m->step), "keyframes and ids differ in number");
       const FloorPlane anchor = valerant::bridge::fromMsg(m->grid_anchor);
       const double kappa = anchor.cameraHeight();
       if (!(kappa > 0) || !std::isfinite(kappa)) throw InputError("map update grid anchor", "camera height not positive");
       const CoverageGrid grid(config_.policy, anchor, {m->grid_heading.x, m->grid_heading.y, m->grid_heading.z},
                               config_.world.d_fwd_units / config_.world.eye_height_units);
+      // A new episode (another anchor) starts a new mirror.
+      if (!live_ || m->grid_anchor != anchor_ || m->grid_heading != heading_) {
+        live_ = std::make_unique<LiveMap>(config_.map, config_.collision, grid, kappa);
+        anchor_ = m->grid_anchor;
+        heading_ = m->grid_heading;
+      }
+      // Only keyframes the mirror does not hold at the same place are converted.
+      std::vector<std::shared_ptr<const FusedKeyframe>> keyframes;
+      for (size_t i = 0; i < m->keyframes.size(); ++i) {
+        const auto& held = live_->keyframes();
+        if (i < held.size() && held[i]->id == m->keyframe_ids[i]) {
+          keyframes.push_back(held[i]);
+          continue;
+        }
+        auto kf = std::make_shared<FusedKeyframe>();
+        kf->id = m->keyframe_ids[i];
+        kf->camera_to_map = valerant::bridge::fromMsg(m->keyframe_poses[i]);
+        kf->points = valerant::bridge::fromFusedCloudMsg(m->keyframes[i]);
+        keyframes.push_back(std::move(kf));
+      }
+      live_->update(keyframes);
       const ::ros::Time stamp = m->header.stamp;
-      publishCloud(map, kappa, stamp);
-      publishOctomap(map, kappa, stamp);
-      publishGrid(map, grid, stamp);
+      publishCloud(stamp);
+      publishOctomap(stamp);
+      publishGrid(grid, stamp);
       publishPath(*m);
       publishFailed(*m, grid, stamp);
       grid_geometry_.emplace(grid);
@@ -92,21 +109,21 @@ class MapFusionNode {
     }
   }
 
-  void publishCloud(const MapFusion& map, double kappa, const ::ros::Time& stamp) {
+  void publishCloud(const ::ros::Time& stamp) {
     std::vector<CloudPoint> points;
-    for (const auto& p : map.voxelCloud(config_.map.voxel_eye_heights * kappa))
+    for (const auto& p : live_->voxelCloud())
       points.push_back({p.position, p.rgb, p.confidence});
     sensor_msgs::PointCloud2 msg = valerant::bridge::toCloudMsg(points, "map");
     msg.header.stamp = stamp;
     cloud_.publish(msg);
   }
 
-  void publishOctomap(const MapFusion& map, double kappa, const ::ros::Time& stamp) {
-    if (map.keyframes().empty()) return;
-    auto tree = map.octree(config_.map.octree_eye_heights * kappa);
+  void publishOctomap(const ::ros::Time& stamp) {
+    if (live_->keyframes().empty()) return;
+    const octomap::ColorOcTree& tree = live_->octree();
     std::vector<CloudPoint> centres;
-    for (auto it = tree->begin_leafs(); it != tree->end_leafs(); ++it) {
-      if (!tree->isNodeOccupied(*it)) continue;
+    for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
+      if (!tree.isNodeOccupied(*it)) continue;
       const octomap::point3d c = it.getCoordinate();
       const octomap::ColorOcTreeNode::Color colour = it->getColor();
       centres.push_back({{c.x(), c.y(), c.z()}, {colour.r, colour.g, colour.b}, static_cast<float>(it->getOccupancy())});
@@ -116,12 +133,12 @@ class MapFusionNode {
     octomap_.publish(msg);
     if (!bt_path_.empty()) {
       std::filesystem::create_directories(std::filesystem::path(bt_path_).parent_path());
-      writeOctreeBt(bt_path_, *tree, true);
+      writeOctreeBt(bt_path_, tree, true);
     }
   }
 
-  void publishGrid(const MapFusion& map, const CoverageGrid& grid, const ::ros::Time& stamp) {
-    const FloorGrid g = map.floorGrid(grid, config_.map.grid_cell_fraction * grid.cellSize());
+  void publishGrid(const CoverageGrid& grid, const ::ros::Time& stamp) {
+    const FloorGrid& g = live_->floorGrid();
     // The grid's axes in the map frame: u along the start heading, v = n x u.
     const int mid = grid.size() / 2;
     const Eigen::Vector3d origin = grid.cellCentre({mid, mid});
@@ -211,6 +228,9 @@ class MapFusionNode {
   double line_width_, chosen_width_;  // in coverage cells
   double failed_alpha_, failed_height_;  // failed cells: opacity, height in coverage cells
   std::optional<CoverageGrid> grid_geometry_;
+  std::unique_ptr<LiveMap> live_;  // the episode's map, mirrored
+  valerant::Floor anchor_;         // and the grid it was made for
+  geometry_msgs::Vector3 heading_;
   ::ros::Publisher cloud_, octomap_, grid_, path_, candidates_, failed_;
   ::ros::Subscriber updates_, decisions_;
 };

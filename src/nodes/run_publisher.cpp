@@ -28,7 +28,8 @@ valerant::MapUpdate mapUpdateOf(const RunMap& run) {
   m.header.stamp = ::ros::Time::now();
   m.header.frame_id = "map";
   for (const auto& kf : run.map.keyframes()) {
-    m.keyframes.push_back(valerant::bridge::toFusedCloudMsg(kf->points, "map"));
+    m.keyframe_ids.push_back(kf->id);
+      m.keyframes.push_back(valerant::bridge::toFusedCloudMsg(kf->points, "map"));
     m.keyframe_poses.push_back(valerant::bridge::toMsg(kf->camera_to_map));
   }
   for (const auto& p : run.trajectory) m.trajectory.push_back(valerant::bridge::toMsg(p));

@@ -9,6 +9,8 @@
 //                        [--config FILE] --out DIR
 //     one episode in process and through the ROS node graph: wall-time ratio and
 //     whether the decisions agree (bench/bench_graph.cpp)
+//   valerant_bench map --run DIR [--updates 15]
+//     cost of the live map products as a finished run's map grows (bench/bench_map.cpp)
 #include <iostream>
 
 #include "bench/bench.h"
@@ -18,7 +20,7 @@ using namespace valerant;
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 2) throw InputError("valerant_bench", "usage: valerant_bench render|slam|graph [options]");
+    if (argc < 2) throw InputError("valerant_bench", "usage: valerant_bench render|slam|graph|map [options]");
     const std::string what = argv[1];
     nlohmann::json result;
     if (what == "render") {
@@ -27,8 +29,10 @@ int main(int argc, char** argv) {
       result = tools::benchSlam(argc - 1, argv + 1);
     } else if (what == "graph") {
       result = tools::benchGraph(argc - 1, argv + 1);
+    } else if (what == "map") {
+      result = tools::benchMap(argc - 1, argv + 1);
     } else {
-      throw InputError("valerant_bench " + what, "unknown benchmark (known: render, slam, graph)");
+      throw InputError("valerant_bench " + what, "unknown benchmark (known: render, slam, graph, map)");
     }
     std::cout << result.dump() << std::endl;
     return 0;

@@ -22,7 +22,9 @@ TEST(EvalGrid, RunsAndOptions) {
 }
 
 TEST(EvalReport, MeansPerConfiguration) {
-  auto result = [](const std::string& config, double observed, double penetrations, double clean_steps) {
+  auto result = [](const std::string& config, double observed, double penetrations, double clean_steps,
+                   std::vector<double> by_step = {}) {
+    if (by_step.empty()) by_step = {observed / 2, observed};
     EvalResult r;
     r.run = {"m", 0, config, "/o"};
     r.ok = true;
@@ -34,10 +36,12 @@ TEST(EvalReport, MeansPerConfiguration) {
                   {"observed_reachable_m2", observed * 10},
                   {"penetrations", penetrations},
                   {"penetration_free_steps", clean_steps},
-                  {"observed_percent_by_step", {observed / 2, observed}}}}};
+                  {"observed_percent_by_step", by_step}}}};
     return r;
   };
-  std::vector<EvalResult> results = {result("full", 20, 0, 4), result("full", 30, 0, 5), result("random", 10, 6, 2)};
+  // The random run stopped after one step: its 10 % holds for step 2 of the mean curve.
+  std::vector<EvalResult> results = {result("full", 20, 0, 4), result("full", 30, 0, 5), result("random", 10, 6, 2, {10}),
+                                     result("random", 8, 0, 2)};
   EvalResult failed;
   failed.run = {"m", 1, "random", "/o"};
   failed.error = "no report.json";
@@ -49,9 +53,10 @@ TEST(EvalReport, MeansPerConfiguration) {
   EXPECT_DOUBLE_EQ(s[0].observed_m2_per_clean_step, (200.0 / 4 + 300.0 / 5) / 2);
   EXPECT_EQ(s[0].observed_by_step, (std::vector<double>{12.5, 25.0}));
   EXPECT_DOUBLE_EQ(s[0].frames_per_second, 10.0);
-  EXPECT_EQ(s[1].runs, 1);
+  EXPECT_EQ(s[1].runs, 2);
   EXPECT_EQ(s[1].failed, 1);
-  EXPECT_DOUBLE_EQ(s[1].penetrations, 6.0);
+  EXPECT_DOUBLE_EQ(s[1].penetrations, 3.0);
+  EXPECT_EQ(s[1].observed_by_step, (std::vector<double>{(10 + 4) / 2.0, (10 + 8) / 2.0}));
   const std::string md = markdownReport(s, results, "cmd", "");
   EXPECT_NE(md.find("| full | 2 | 0 | 25.0 |"), std::string::npos);
   EXPECT_NE(md.find("failed: no report.json"), std::string::npos);

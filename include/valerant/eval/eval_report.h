@@ -31,7 +31,7 @@ struct ConfigSummary {
   // over every verdict of every run before dividing (micro average); -1 when undefined.
   double verdict_precision = -1, verdict_recall = -1;
   std::map<std::string, double> stage_seconds;  // mean seconds per run in each stage
-  std::vector<double> observed_by_step;  // mean curve
+  std::vector<double> observed_by_step;  // mean curve; a run that ended keeps its last value
 };
 
 std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, const std::vector<std::string>& configs);

@@ -18,7 +18,7 @@ void writeCloudPly(const std::string& path, const std::vector<FusedPoint>& point
 // Binary PCD with the same fields.
 void writeCloudPcd(const std::string& path, const std::vector<FusedPoint>& points, bool overwrite);
 // OctoMap binary occupancy (.bt).
-void writeOctreeBt(const std::string& path, octomap::ColorOcTree& tree, bool overwrite);
+void writeOctreeBt(const std::string& path, const octomap::ColorOcTree& tree, bool overwrite);
 // `stem`.pgm + `stem`.yaml in map_server format (free 254, occupied 0, unknown 205).
 void writeFloorGrid(const std::string& stem, const FloorGrid& grid, bool overwrite);
 

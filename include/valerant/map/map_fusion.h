@@ -2,8 +2,10 @@
 // The global map: keyframe clouds of committed branches, each point with its
 // floor-normalised height. Fusion only appends keyframes; a rewind truncates back to a
 // marker. The derived products (voxel-averaged cloud, OctoMap occupancy by ray
-// insertion from the keyframe origins, 2D floor/obstacle grid) are rebuilt from the
-// kept keyframes when asked for, so a rewind never leaves stale geometry behind.
+// insertion from the keyframe origins, 2D floor/obstacle grid; map_products.h) are
+// rebuilt from the kept keyframes when asked for, so a rewind never leaves stale
+// geometry behind. live_map.h keeps them current instead, for a node that publishes
+// them after every step.
 #include <Eigen/Geometry>
 #include <memory>
 #include <opencv2/core.hpp>
@@ -28,6 +30,7 @@ struct FusedPoint {
 };
 
 struct FusedKeyframe {
+  uint64_t id = 0;  // newKeyframeId(): how a mirror of the map (live_map.h) tells keyframes apart
   Eigen::Isometry3d camera_to_map;
   std::vector<FusedPoint> points;
 };
@@ -41,13 +44,17 @@ struct FloorGrid {
   std::vector<int8_t> cells;           // row-major, width * height
 };
 
+// A keyframe id not given out before, in this process or (with overwhelming
+// probability) in any other.
+uint64_t newKeyframeId();
+
 class MapFusion {
  public:
   MapFusion(const MapConfig& map_config, const CollisionConfig& collision_config);
 
   // Keeps points with confidence >= min_confidence; `floor` is the keyframe's floor.
   void fuse(const KeyframeCloud& cloud, const FloorPlane& floor);
-  // Appends a keyframe fused elsewhere (a mirror of another process's map).
+  // Appends a keyframe fused elsewhere (a mirror of another process's map), id and all.
   void add(std::shared_ptr<const FusedKeyframe> keyframe) { keyframes_.push_back(std::move(keyframe)); }
   size_t marker() const { return keyframes_.size(); }
   void truncate(size_t marker);
@@ -55,7 +62,7 @@ class MapFusion {
   size_t pointCount() const;
 
   // Voxel-averaged cloud (cubes of voxel_size, any extent); position, colour, confidence and
-  // height averaged per voxel.
+  // height averaged per voxel; sorted by voxel.
   std::vector<FusedPoint> voxelCloud(double voxel_size) const;
   // Occupancy by ray casting from each keyframe's camera centre (OctoMap).
   std::unique_ptr<octomap::ColorOcTree> octree(double resolution) const;

@@ -8,6 +8,7 @@ namespace valerant::tools {
 nlohmann::json benchRender(int argc, char** argv);
 nlohmann::json benchSlam(int argc, char** argv);
 nlohmann::json benchGraph(int argc, char** argv);
+nlohmann::json benchMap(int argc, char** argv);
 
 // Peak resident memory of this process so far.
 double peakResidentMiB();
