@@ -95,6 +95,7 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   report["committed_steps"] = episode.committedSteps();
   report["steps"] = episode.history().size();
   report["rewinds"] = episode.rewinds();
+  report["stuck"] = episode.stuck();  // ended early: a stall with no rewind left (episode.h)
   report["failed_cells"] = episode.failed().cells().size();
   report["map_points"] = cloud.size();
   report["stage_seconds"] = toJson(total);

@@ -77,7 +77,7 @@ size_t Episode::fuseKnown(const BranchResult& result) {
 }
 
 bool Episode::finished() const {
-  return committed_steps_ >= config_.policy.budget_steps ||
+  return stuck_ || committed_steps_ >= config_.policy.budget_steps ||
          steps_ >= config_.policy.step_cap_factor * config_.policy.budget_steps;
 }
 
@@ -139,6 +139,7 @@ StepRecord Episode::step() {
   }
   release(rewinder_.recordStep(record.checkpoint, start_cell, record.chosen >= 0, rotation_only, cells));
   if (const auto decision = rewinder_.check()) rewind(*decision, record);
+  stuck_ = record.chosen < 0 && !record.rewind && !rewinder_.canRewindLater();
   record.map_keyframes = map_.marker();
   record.wall_seconds = secondsSince(step_start);
   history_.push_back(record);

@@ -52,6 +52,11 @@ std::vector<uint64_t> RewindController::apply(const RewindDecision& decision) {
   return released;
 }
 
+bool RewindController::canRewindLater() const {
+  return config_.enabled && rewinds_ < config_.max_rewinds &&
+         std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.translational; });
+}
+
 std::vector<uint64_t> RewindController::retained() const {
   std::vector<uint64_t> ids;
   for (const auto& s : steps_) ids.push_back(s.checkpoint);

@@ -6,6 +6,7 @@
 #include "openarena_data.h"
 #include "valerant/explore/episode.h"
 #include "valerant/explore/episode_json.h"
+#include "valerant/explore/local_branch_pipeline.h"
 #include "valerant/slam/oracle_slam.h"
 #include "valerant/world/quake3/quake3_world.h"
 
@@ -84,4 +85,22 @@ TEST(Episode, RewindRestoresTheAnchorAndMarksFailedCells) {
     }
   }
   EXPECT_TRUE(rewound) << "no rotation-only commit in " << episode.history().size() << " steps";
+}
+
+TEST(Episode, AStallWithNoRewindLeftEndsTheEpisode) {
+  VALERANT_REQUIRE_OPENARENA();
+  // A selector that admits nothing: every step is a stall, and with no translation
+  // committed there is no checkpoint to rewind to, so the first stall is final.
+  struct StallSelector : BranchSelector {
+    int select(std::vector<BranchVerdict>&, uint64_t) override { return -1; }
+  } stall;
+  const Config config = smallConfig(3);
+  auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  LocalBranchPipeline pipeline(std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  Episode episode(world, pipeline, stall, config);
+  episode.runUntilDone(nullptr);
+  EXPECT_TRUE(episode.stuck());
+  EXPECT_EQ(episode.history().size(), 1u);  // not the 3 x 3 steps of the step cap
+  EXPECT_EQ(episode.committedSteps(), 0);
 }

@@ -152,6 +152,22 @@ TEST(RewindController, AtMostTwoRewindsAndOnlyThreeAnchorsKept) {
     }
   }
   EXPECT_EQ(r.rewinds(), 2);
+  EXPECT_FALSE(r.canRewindLater());  // anchors remain, rewinds do not
+}
+
+TEST(RewindController, CanRewindLaterNeedsAnAnchor) {
+  DeadPocketConfig config;
+  RewindController r(config);
+  EXPECT_FALSE(r.canRewindLater());  // nothing committed yet
+  r.recordStep(1, {64, 64}, true, true, {{64, 64}});
+  r.recordStep(2, {64, 64}, false, false, {});
+  EXPECT_FALSE(r.canRewindLater());  // a rotation and a stall are no anchors
+  r.recordStep(3, {64, 64}, true, false, {{64, 64}, {65, 64}});
+  EXPECT_TRUE(r.canRewindLater());
+  config.enabled = false;
+  RewindController off(config);
+  off.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}});
+  EXPECT_FALSE(off.canRewindLater());
 }
 
 TEST(RewindController, DisabledNeverRewinds) {

@@ -57,7 +57,11 @@ class Episode {
   Episode(WorldModel& world, BranchPipeline& pipeline, BranchSelector& selector, const Config& config);
 
   StepRecord step();
+  // The budget of committed steps is spent, the step cap is reached, or the episode is
+  // stuck: a stall that no rewind can ever follow. A stall leaves world, SLAM, map and
+  // F as they were, so every later step would judge the same rollouts the same way.
   bool finished() const;
+  bool stuck() const { return stuck_; }
   void runUntilDone(const std::function<void(const StepRecord&)>& on_step, const std::atomic<bool>* stop = nullptr);
 
   int committedSteps() const { return committed_steps_; }
@@ -105,6 +109,7 @@ class Episode {
   MapFusion map_;
   FailedRegionMemory failed_;
   RewindController rewinder_;
+  bool stuck_ = false;
   std::map<uint64_t, Saved> saved_;
   std::vector<Eigen::Isometry3d> trajectory_;
   std::vector<FrameTruth> truth_;

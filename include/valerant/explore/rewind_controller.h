@@ -42,6 +42,9 @@ class RewindController {
   // that are no longer needed.
   std::vector<uint64_t> apply(const RewindDecision& decision);
 
+  // Whether a dead pocket could still be rewound out of: enabled, rewinds left and an
+  // anchor retained. A stall without that changes nothing, so nothing can follow it.
+  bool canRewindLater() const;
   int rewinds() const { return rewinds_; }
   int stalledSteps() const { return stalled_; }
   // Every checkpoint the controller may still rewind to.
