@@ -121,8 +121,10 @@ int main(int argc, char** argv) {
     for (const auto& r : runs) results.push_back(readResult(r));
     const auto summaries = summarise(results, configs);
     writeResultsCsv(out + "/results.csv", results);
+    // The command that makes these runs: --report-only only re-summarises them.
     std::string command = "scripts/run valerant_eval";
-    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+    for (int i = 1; i < argc; ++i)
+      if (std::string(argv[i]) != "--report-only") command += std::string(" ") + argv[i];
     std::map<std::string, cv::Mat> images = {
         {"coverage_by_step.png", plotCoverageCurves(summaries)},
         {"penetrations.png", plotBars(summaries, &ConfigSummary::penetrations, "penetrating committed frames per run")},

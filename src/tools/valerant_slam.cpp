@@ -95,7 +95,8 @@ nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context
   writeCloud(dir + "/keyframes.ply", branch.keyframeClouds());
 
   std::vector<cv::Mat> depth, confidence, truth_depth;
-  int lost = 0, in_solid = 0, rotation_only = 0;
+  int in_solid = 0, rotation_only = 0;
+  std::vector<size_t> lost;  // frame indices
   for (size_t i = 0; i < track.frames.size(); ++i) {
     const TrackedFrame& f = track.frames[i];
     char file[32];
@@ -105,7 +106,7 @@ nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context
     depth.push_back(f.depth);
     confidence.push_back(f.confidence);
     truth_depth.push_back(rollout.truth[i].depth_m);
-    lost += f.state == TrackingState::kLost;
+    if (f.state == TrackingState::kLost) lost.push_back(i);
     rotation_only += f.rotation_only;
     in_solid += rollout.truth[i].in_solid;
   }
@@ -124,7 +125,8 @@ nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context
   out["confident_fraction"] = d.confident_fraction;
   out["fps"] = track.frames.size() / track.time.wall;
   out["fps_cpu"] = track.frames.size() / track.time.cpu;
-  out["lost_frames"] = lost;
+  out["lost_frames"] = lost.size();
+  out["lost_frame_indices"] = lost;
   out["in_solid_frames"] = in_solid;
   out["rotation_only_frames"] = rotation_only;
   out["keyframes"] = branch.keyframeCount();
