@@ -68,8 +68,12 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
       s.wall_seconds += number(r.report, "wall_seconds");
       const double wall = number(r.report, "wall_seconds");
       s.frames_per_second += wall > 0 ? number(r.report, "frames_rendered") / wall : 0.0;
+      // A run whose map never had anything to align (no keyframe fused) has no curve: it
+      // stays at its final value (0) throughout, and still counts in the mean.
       if (g.contains("observed_percent_by_step") && !g["observed_percent_by_step"].empty())
         curves.push_back(g["observed_percent_by_step"].get<std::vector<double>>());
+      else
+        curves.push_back({number(g, "observed_reachable_percent")});
     }
     if (s.runs > 0) {
       for (double* v : {&s.observed_percent, &s.observed_m2, &s.observed_m2_per_clean_step, &s.penetrations, &s.rewinds,

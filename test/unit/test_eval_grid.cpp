@@ -40,25 +40,28 @@ TEST(EvalReport, MeansPerConfiguration) {
     return r;
   };
   // The random run stopped after one step: its 10 % holds for step 2 of the mean curve.
-  std::vector<EvalResult> results = {result("full", 20, 0, 4), result("full", 30, 0, 5), result("random", 10, 6, 2, {10}),
-                                     result("random", 8, 0, 2)};
+  // The third full run fused nothing: no curve, 0 at every step.
+  auto nothing = result("full", 0, 0, 3);
+  nothing.report["ground_truth"].erase("observed_percent_by_step");
+  std::vector<EvalResult> results = {result("full", 20, 0, 4), result("full", 30, 0, 5), nothing,
+                                     result("random", 10, 6, 2, {10}), result("random", 8, 0, 2)};
   EvalResult failed;
   failed.run = {"m", 1, "random", "/o"};
   failed.error = "no report.json";
   results.push_back(failed);
   const auto s = summarise(results, {"full", "random"});
   ASSERT_EQ(s.size(), 2u);
-  EXPECT_EQ(s[0].runs, 2);
-  EXPECT_DOUBLE_EQ(s[0].observed_percent, 25.0);
-  EXPECT_DOUBLE_EQ(s[0].observed_m2_per_clean_step, (200.0 / 4 + 300.0 / 5) / 2);
-  EXPECT_EQ(s[0].observed_by_step, (std::vector<double>{12.5, 25.0}));
+  EXPECT_EQ(s[0].runs, 3);
+  EXPECT_DOUBLE_EQ(s[0].observed_percent, 50.0 / 3);
+  EXPECT_DOUBLE_EQ(s[0].observed_m2_per_clean_step, (200.0 / 4 + 300.0 / 5 + 0.0) / 3);
+  EXPECT_EQ(s[0].observed_by_step, (std::vector<double>{(10 + 15 + 0) / 3.0, (20 + 30 + 0) / 3.0}));
   EXPECT_DOUBLE_EQ(s[0].frames_per_second, 10.0);
   EXPECT_EQ(s[1].runs, 2);
   EXPECT_EQ(s[1].failed, 1);
   EXPECT_DOUBLE_EQ(s[1].penetrations, 3.0);
   EXPECT_EQ(s[1].observed_by_step, (std::vector<double>{(10 + 4) / 2.0, (10 + 8) / 2.0}));
   const std::string md = markdownReport(s, results, "cmd", "");
-  EXPECT_NE(md.find("| full | 2 | 0 | 25.0 |"), std::string::npos);
+  EXPECT_NE(md.find("| full | 3 | 0 | 16.7 |"), std::string::npos);
   EXPECT_NE(md.find("failed: no report.json"), std::string::npos);
 }
 
