@@ -248,7 +248,8 @@ cv::Mat plotCoverageCurves(const std::vector<ConfigSummary>& summaries) {
   cv::line(img, at(0, 0), at(0, top_value), cv::Scalar::all(0));
   for (int t = 0; t <= 4; ++t) {
     const double v = top_value * t / 4;
-    cv::putText(img, fixed(v, 0), at(0, v) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar::all(0));
+    cv::putText(img, fixed(v, v == std::round(v) ? 0 : 1), at(0, v) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.4,
+                cv::Scalar::all(0));
   }
   cv::putText(img, "reachable floor observed (%) by step", {left, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar::all(0));
   cv::putText(img, "step", at(steps, 0) + cv::Point(-30, 30), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar::all(0));
