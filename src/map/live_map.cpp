@@ -14,19 +14,13 @@ LiveMap::LiveMap(const MapConfig& map, const CollisionConfig& collision, const C
       floor_(grid, map.grid_cell_fraction * grid.cellSize(), collision) {}
 
 LiveMap::~LiveMap() = default;
-
-void LiveMap::reset() {
-  voxels_ = VoxelCloudBuilder(map_config_.voxel_eye_heights * kappa_);
-  octree_ = std::make_unique<octomap::ColorOcTree>(map_config_.octree_eye_heights * kappa_);
-  floor_ = FloorGridBuilder(grid_, map_config_.grid_cell_fraction * grid_.cellSize(), collision_config_);
-  keyframes_.clear();
-}
+LiveMap& LiveMap::operator=(LiveMap&&) = default;
 
 size_t LiveMap::update(const std::vector<std::shared_ptr<const FusedKeyframe>>& keyframes) {
   size_t kept = 0;
   while (kept < keyframes_.size() && kept < keyframes.size() && keyframes_[kept]->id == keyframes[kept]->id) ++kept;
   if (kept < keyframes_.size()) {
-    reset();
+    *this = LiveMap(map_config_, collision_config_, grid_, kappa_);  // empty again
     kept = 0;
   }
   const double max_range = map_config_.max_range_eye_heights * kappa_;

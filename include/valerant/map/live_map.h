@@ -21,6 +21,7 @@ class LiveMap {
   // distance, the unit of the voxel, OctoMap and range sizes in `map`.
   LiveMap(const MapConfig& map, const CollisionConfig& collision, const CoverageGrid& grid, double kappa);
   ~LiveMap();
+  LiveMap& operator=(LiveMap&&);
 
   // Makes the mirror hold `keyframes` (the episode's, in order): appends those after
   // the longest prefix with the same ids, or rebuilds when a mirrored keyframe is no
@@ -33,8 +34,6 @@ class LiveMap {
   const FloorGrid& floorGrid() const { return floor_.grid(); }
 
  private:
-  void reset();
-
   MapConfig map_config_;
   CollisionConfig collision_config_;
   CoverageGrid grid_;
