@@ -5,10 +5,10 @@
 // the two end with the same products.
 #include <octomap/ColorOcTree.h>
 
-#include <chrono>
 #include <tuple>
 
 #include "../cli_args.h"
+#include "../thread_clock.h"
 #include "bench.h"
 #include "valerant/map/live_map.h"
 #include "valerant/map/run_map.h"
@@ -16,10 +16,6 @@
 namespace valerant::tools {
 
 namespace {
-
-double since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // Every leaf's key, depth, occupancy and colour, in the tree's own order.
 using Leaf = std::tuple<uint16_t, uint16_t, uint16_t, unsigned, float, uint8_t, uint8_t, uint8_t>;
@@ -69,16 +65,16 @@ nlohmann::json benchMap(int argc, char** argv) {
       episode.push_back(all[episode.size()]);
       rebuilt.add(episode.back());
     }
-    auto start = std::chrono::steady_clock::now();
+    ThreadClock start = ThreadClock::now();
     rebuilt_cloud = rebuilt.voxelCloud(config.map.voxel_eye_heights * kappa);
     rebuilt_tree = rebuilt.octree(config.map.octree_eye_heights * kappa);
     rebuilt_grid = rebuilt.floorGrid(grid, config.map.grid_cell_fraction * grid.cellSize());
-    rebuild_s += since(start);
-    start = std::chrono::steady_clock::now();
+    rebuild_s += (ThreadClock::now() - start).wall;
+    start = ThreadClock::now();
     live.update(episode);
     live_cloud = live.voxelCloud();
     live_grid = live.floorGrid();
-    live_s += since(start);
+    live_s += (ThreadClock::now() - start).wall;
   }
   const bool same = sameCloud(rebuilt_cloud, live_cloud) && rebuilt_grid.cells == live_grid.cells &&
                     leaves(*rebuilt_tree) == leaves(live.octree());
