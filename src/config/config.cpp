@@ -156,6 +156,8 @@ void readFloor(Section s, FloorConfig& f) {
   s.number("lower_envelope_fraction", f.lower_envelope_fraction, 0.01, 1.0);
   s.number("ransac_iterations", f.ransac_iterations, 1, 100000);
   s.number("ransac_inlier_ratio", f.ransac_inlier_ratio, 1e-6, 1.0);
+  s.number("max_distance_change", f.max_distance_change, 1.0, 1e6);
+  s.number("relock_keyframes", f.relock_keyframes, 1, 100000);
   s.finish();
 }
 

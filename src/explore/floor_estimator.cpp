@@ -88,6 +88,21 @@ FloorPlane FloorEstimator::at(const Eigen::Isometry3d& camera_to_map) const {
   return plane;
 }
 
+bool FloorEstimator::continuesFloor(double distance) {
+  const double r = config_.max_distance_change;
+  auto near = [r](double a, double b) { return a <= r * b && b <= r * a; };
+  if (!has_relation_ || near(distance, relation_distance_)) {
+    jump_keyframes_ = 0;
+    return true;
+  }
+  // A jump: count the keyframes in a row that agree on the new distance.
+  jump_keyframes_ = jump_keyframes_ > 0 && near(distance, jump_distance_) ? jump_keyframes_ + 1 : 1;
+  jump_distance_ = distance;
+  if (jump_keyframes_ < config_.relock_keyframes) return false;
+  jump_keyframes_ = 0;
+  return true;
+}
+
 FloorPlane FloorEstimator::update(const std::vector<CloudPoint>& points, const Eigen::Isometry3d& camera_to_map) {
   ++updates_;
   const Eigen::Vector3d c = camera_to_map.translation();
@@ -99,7 +114,7 @@ FloorPlane FloorEstimator::update(const std::vector<CloudPoint>& points, const E
   const bool accepted = fit.support >= config_.min_support &&
                         std::abs(fit.n.dot(up_)) >= config_.min_vertical_alignment &&
                         fit.n.dot(c - fit.q) > 0;
-  if (!accepted) {
+  if (!accepted || !continuesFloor(fit.n.dot(c - fit.q))) {
     FloorPlane propagated = at(camera_to_map);
     propagated.support = fit.support;
     return propagated;

@@ -139,3 +139,52 @@ TEST(FloorEstimator, FloorIsUnknownUntilOneIsAccepted) {
   EXPECT_TRUE(robust.update(seen.points, seen.pose).known);
   EXPECT_TRUE(robust.at(cameraAt({1, 0, 1})).known);
 }
+
+namespace {
+
+// A keyframe whose lowest points are a ledge top 0.25 below the camera (441 points):
+// what a camera closing in on a wall with a ledge sees once no floor is left in view.
+std::vector<CloudPoint> ledgeSeenFrom(const Eigen::Vector3d& c) {
+  std::vector<CloudPoint> points;
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j) {
+      CloudPoint p;
+      p.position = Eigen::Vector3f(c.x() + 0.3 + 0.02 * i, c.y() - 0.2 + 0.02 * j, c.z() - 0.25);
+      p.confidence = 10;
+      points.push_back(p);
+    }
+  return points;
+}
+
+}  // namespace
+
+TEST(FloorEstimator, ALedgeFarAboveTheFloorIsNotTakenForIt) {
+  FloorEstimator robust(rf(true), Eigen::Vector3d::UnitZ(), 4.0);
+  const DriftingKeyframe seen = drifting(2);  // floor 1.2 below the camera
+  ASSERT_TRUE(robust.update(seen.points, seen.pose).reliable);
+  // The ledge fits well (441 inliers, level) but at 0.25 / 1.2 = 0.21 of the floor's
+  // distance, beyond the 1 / 1.5 allowed: the floor 1.2 below is propagated.
+  Eigen::Isometry3d pose = seen.pose;
+  pose.translation().x() += 0.5;
+  const FloorPlane p = robust.update(ledgeSeenFrom(pose.translation()), pose);
+  EXPECT_FALSE(p.reliable);
+  EXPECT_EQ(p.support, 441);
+  EXPECT_NEAR(p.cameraHeight(), 1.2, 1e-6);
+}
+
+TEST(FloorEstimator, ThreeKeyframesAgreeingOnANewDistanceRelock) {
+  FloorEstimator robust(rf(true), Eigen::Vector3d::UnitZ(), 4.0);
+  const DriftingKeyframe seen = drifting(2);
+  ASSERT_TRUE(robust.update(seen.points, seen.pose).reliable);
+  Eigen::Isometry3d pose = seen.pose;
+  for (int k = 1; k <= 3; ++k) {
+    pose.translation().x() += 0.5;
+    const FloorPlane p = robust.update(ledgeSeenFrom(pose.translation()), pose);
+    // Keyframes 1 and 2 of the jump propagate 1.2; the third takes the new 0.25.
+    EXPECT_EQ(p.reliable, k == 3) << "keyframe " << k;
+    EXPECT_NEAR(p.cameraHeight(), k == 3 ? 0.25 : 1.2, 1e-5) << "keyframe " << k;
+  }
+  // The relation is now 0.25: the next agreeing fit is accepted at once.
+  pose.translation().x() += 0.5;
+  EXPECT_TRUE(robust.update(ledgeSeenFrom(pose.translation()), pose).reliable);
+}

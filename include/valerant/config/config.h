@@ -61,6 +61,11 @@ struct FloorConfig {
   double lower_envelope_fraction = 0.35;
   int ransac_iterations = 200;
   double ransac_inlier_ratio = 0.03;    // inlier distance / camera-to-floor estimate
+  // A fit whose camera-to-floor distance is more than this factor away from the last
+  // reliable one is a ledge or a step, not the floor ...
+  double max_distance_change = 1.5;
+  // ... unless this many keyframes in a row agree on such a new distance (a new scale).
+  int relock_keyframes = 3;
 };
 
 struct CollisionConfig {

@@ -4,7 +4,15 @@
 // RANSAC, accept it only with >= min_support inliers and |n . e_y| >= 0.7. Otherwise
 // propagate the most recent reliable camera-to-floor relation (normal and distance in
 // the camera frame) to the new camera pose, instead of falling back to the first
-// calibration. With RF off (the paper's ablation) the first accepted plane is kept in
+// calibration.
+//
+// Continuity ([ours], floor.max_distance_change): the eye height is fixed and the SLAM
+// scale drifts little between keyframes, so a fit whose camera-to-floor distance jumps
+// by more than that factor from the last reliable one is a ledge, a step or a table
+// top in the lower envelope (a camera closing in on a wall sees no floor left in front
+// of it), and is treated as unreliable. floor.relock_keyframes such fits in a row that
+// agree with each other are taken as the floor after all (the SLAM re-scaled, or the
+// first floor was the wrong one). With RF off (the paper's ablation) the first accepted plane is kept in
 // the map frame for the whole episode.
 //
 // A value type: copy it to branch, assign it to restore.
@@ -40,6 +48,8 @@ class FloorEstimator {
     int support = 0;
   };
   Fit fitLowerEnvelope(const std::vector<CloudPoint>& points, const Eigen::Vector3d& c);
+  // Whether a fit at `distance` from the camera continues the floor (see above).
+  bool continuesFloor(double distance);
 
   FloorConfig config_;
   double min_confidence_;
@@ -50,6 +60,9 @@ class FloorEstimator {
   bool has_relation_ = false;
   Eigen::Vector3d relation_normal_camera_ = Eigen::Vector3d(0, -1, 0);
   double relation_distance_ = 1.0;
+  // Fits in a row that jumped away from relation_distance_, and the last one's distance.
+  int jump_keyframes_ = 0;
+  double jump_distance_ = 0;
   // RF off: the one global floor, fixed in the map frame once calibrated.
   bool has_global_ = false;
   FloorPlane global_;
