@@ -111,10 +111,10 @@ FloorPlane FloorEstimator::update(const std::vector<CloudPoint>& points, const E
 
   Fit fit = fitLowerEnvelope(points, c);
   if (fit.support > 0 && fit.n.dot(c - fit.q) < 0) fit.n = -fit.n;  // toward the camera
+  const double distance = fit.n.dot(c - fit.q);
   const bool accepted = fit.support >= config_.min_support &&
-                        std::abs(fit.n.dot(up_)) >= config_.min_vertical_alignment &&
-                        fit.n.dot(c - fit.q) > 0;
-  if (!accepted || !continuesFloor(fit.n.dot(c - fit.q))) {
+                        std::abs(fit.n.dot(up_)) >= config_.min_vertical_alignment && distance > 0;
+  if (!accepted || !continuesFloor(distance)) {
     FloorPlane propagated = at(camera_to_map);
     propagated.support = fit.support;
     return propagated;

@@ -12,8 +12,10 @@
 // top in the lower envelope (a camera closing in on a wall sees no floor left in front
 // of it), and is treated as unreliable. floor.relock_keyframes such fits in a row that
 // agree with each other are taken as the floor after all (the SLAM re-scaled, or the
-// first floor was the wrong one). With RF off (the paper's ablation) the first accepted plane is kept in
-// the map frame for the whole episode.
+// first floor was the wrong one).
+//
+// With RF off (the paper's ablation) the first accepted plane is kept in the map frame
+// for the whole episode.
 //
 // A value type: copy it to branch, assign it to restore.
 #include <Eigen/Geometry>
