@@ -175,6 +175,10 @@ void readCollision(Section s, CollisionConfig& c) {
   s.number("center_fraction", c.center_fraction, 0.01, 1.0);
   s.number("d_near", c.d_near, 0.0, 100.0);
   s.number("s_min_coefficient", c.s_min_coefficient, 0.0, 10.0);
+  s.boolean("prefix_commits", c.prefix_commits);
+  s.number("prefix_margin", c.prefix_margin, 0.0, 100.0);
+  s.number("prefix_clearance", c.prefix_clearance, 0.0, 100.0);
+  s.number("prefix_min_advance", c.prefix_min_advance, 0.0, 100.0);
   s.finish();
 }
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "valerant/explore/clean_prefix.h"
+
 namespace valerant {
 
 BranchCheck::BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> previous_step)
@@ -11,7 +13,7 @@ BranchCheck::BranchCheck(const Config& config, std::shared_ptr<const std::vector
       d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units) {}
 
 void BranchCheck::add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor) {
-  if (frame.state == TrackingState::kLost) lost_ = true;
+  if (frame.state == TrackingState::kLost && first_lost_ < 0) first_lost_ = static_cast<int>(samples_.size());
   if (keyframe) keyframes_.push_back({samples_.size(), keyframe->points});
   samples_.push_back(floor);
   poses_.push_back(frame.camera_to_map);
@@ -42,13 +44,18 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
   BranchVerdict v;
   v.candidate = candidate;
   v.rotation_only = rotation_only;
-  v.slam_lost = lost_;
+  v.slam_lost = first_lost_ >= 0;
   const std::vector<FloorPlane> floors = this->floors();
   if (floors.empty() || !floors.back().known) {
     v.floor_unknown = !rotation_only;
     v.min_near_ratio = std::numeric_limits<double>::infinity();
     return v;
   }
+  int first_unsafe = first_lost_, reference = first_lost_ - 1;  // a lost frame's pose is no reference
+  auto unsafeAt = [&](int frame) {
+    if (frame < 0 || (first_unsafe >= 0 && frame >= first_unsafe)) return;
+    first_unsafe = reference = frame;
+  };
   if (config_.pointcloud_enabled) {
     std::vector<HeightedPoint> points;
     for (const KeyframePoints& kf : keyframes_)
@@ -67,13 +74,28 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     const PointCloudCollision pc = detectPointCloudCollision(points, floors, config_, rotation_only);
     v.collision_pc = pc.collision;
     v.occupied_max = pc.occupied_max;
+    if (pc.collision) unsafeAt(pc.run_start);
+    // A prefix also keeps prefix_clearance from the branch's points: rho leaves the
+    // Quake III hull (0.30 to 0.42 eye heights from its axis) touching what eq. 6 passes.
+    const std::vector<int> wide = bodyCylinderCounts(points, floors, config_, config_.prefix_clearance);
+    for (size_t i = 0; i < wide.size(); ++i)
+      if (wide[i] >= config_.n_occ) {
+        unsafeAt(static_cast<int>(i));
+        break;
+      }
   }
   std::vector<DepthSample> depth_samples;
   for (size_t i = 0; i < floors.size(); ++i)
     depth_samples.push_back({central_depths_[i], floors[i], poses_[i].linear().col(2)});
   const DepthCollision dc = detectDepthCollision(depth_samples, config_, d_fwd_normalised_);
   v.min_near_ratio = dc.min_near_ratio;
-  if (config_.depth_enabled) v.collision_depth = dc.collision;
+  if (config_.depth_enabled) {
+    v.collision_depth = dc.collision;
+    if (dc.collision) unsafeAt(dc.frame);
+  }
+  v.prefix_frames = rotation_only ? static_cast<int>(floors.size())
+                                  : cleanPrefixFrames(floors, first_unsafe, reference, config_.prefix_margin,
+                                                      config_.prefix_min_advance);
   return v;
 }
 

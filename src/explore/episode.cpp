@@ -88,41 +88,26 @@ StepRecord Episode::step() {
   record.checkpoint = world_.checkpoint();
   pipeline_.checkpoint(record.checkpoint);
   saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_});
-  const Eigen::Vector3d start_centre = trajectory_.back().translation();
-
-  // Rendering needs the world's single GL context, so rollouts are made one after the
-  // other; the pipeline starts each one's reconstruction as soon as it exists.
-  std::vector<std::future<BranchResult>> pending;
-  for (const std::string& name : candidateNames()) {
-    const ActionSequence seq = makeActionSequence(name, config_);
-    const auto t = std::chrono::steady_clock::now();
-    Rollout rollout = world_.rollout(seq);
-    record.seconds.render += secondsSince(t);
-    pending.push_back(pipeline_.evaluate(std::move(rollout), seq.rotationOnly()));
-  }
-  std::vector<BranchResult> results;
-  std::vector<std::vector<Eigen::Vector3d>> centres;
-  std::vector<BranchVerdict> verdicts;
   Cell start_cell{-1, -1};
-  grid_->cellOf(start_centre, start_cell);
-  for (auto& f : pending) {
-    results.push_back(f.get());
-    record.seconds += results.back().seconds;
+  grid_->cellOf(trajectory_.back().translation(), start_cell);
+
+  Candidates judged;
+  judge(candidateNames(), start_cell, record, judged);
+  const uint64_t step_seed = (uint64_t{config_.world.seed} << 32) + record.step;
+  auto select = [&] {
     const auto t = std::chrono::steady_clock::now();
-    centres.push_back(centresOf(start_centre, results.back().poses));
-    BranchVerdict v = results.back().verdict;
-    const CoverageTerms terms = grid_->score(centres.back());
-    v.c_new = terms.c_new;
-    v.c_front = terms.c_front;
-    v.coverage = terms.coverage;
-    v.progress = terms.progress;
-    v.enters_failed = failed_.enters(terms.cells, start_cell);
-    verdicts.push_back(v);
+    record.chosen = selector_.select(judged.verdicts, step_seed);
     record.seconds.policy += secondsSince(t);
+  };
+  select();
+  const std::vector<std::string> prefixes = cleanPrefixes(judged);
+  if (!prefixes.empty()) {
+    judge(prefixes, start_cell, record, judged);
+    select();
   }
-  const auto policy_start = std::chrono::steady_clock::now();
-  record.chosen = selector_.select(verdicts, (uint64_t{config_.world.seed} << 32) + record.step);
-  record.seconds.policy += secondsSince(policy_start);
+  const auto& results = judged.results;
+  const auto& centres = judged.centres;
+  const auto& verdicts = judged.verdicts;
   for (size_t i = 0; i < results.size(); ++i) record.candidates.push_back({verdicts[i], centres[i], results[i].rollout.truth});
 
   std::set<Cell> cells;
@@ -144,6 +129,50 @@ StepRecord Episode::step() {
   record.wall_seconds = secondsSince(step_start);
   history_.push_back(record);
   return record;
+}
+
+void Episode::judge(const std::vector<std::string>& names, const Cell& start_cell, StepRecord& record, Candidates& out) {
+  // Rendering needs the world's single GL context, so rollouts are made one after the
+  // other; the pipeline starts each one's reconstruction as soon as it exists.
+  std::vector<std::future<BranchResult>> pending;
+  for (const std::string& name : names) {
+    const ActionSequence seq = makeActionSequence(name, config_);
+    const auto t = std::chrono::steady_clock::now();
+    Rollout rollout = world_.rollout(seq);
+    record.seconds.render += secondsSince(t);
+    pending.push_back(pipeline_.evaluate(std::move(rollout), seq.rotationOnly()));
+  }
+  const Eigen::Vector3d start_centre = trajectory_.back().translation();
+  for (auto& f : pending) {
+    out.results.push_back(f.get());
+    const BranchResult& result = out.results.back();
+    record.seconds += result.seconds;
+    const auto t = std::chrono::steady_clock::now();
+    out.centres.push_back(centresOf(start_centre, result.poses));
+    BranchVerdict v = result.verdict;
+    const CoverageTerms terms = grid_->score(out.centres.back());
+    v.c_new = terms.c_new;
+    v.c_front = terms.c_front;
+    v.coverage = terms.coverage;
+    v.progress = terms.progress;
+    v.enters_failed = failed_.enters(terms.cells, start_cell);
+    out.verdicts.push_back(v);
+    record.seconds.policy += secondsSince(t);
+  }
+}
+
+std::vector<std::string> Episode::cleanPrefixes(const Candidates& judged) const {
+  if (!config_.collision.prefix_commits) return {};
+  for (const BranchVerdict& v : judged.verdicts)
+    if (v.admissible && !v.rotation_only) return {};  // the paper's own candidates move on
+  std::vector<std::string> names;
+  for (size_t i = 0; i < judged.verdicts.size(); ++i) {
+    const BranchVerdict& v = judged.verdicts[i];
+    const int frames = static_cast<int>(judged.results[i].poses.size());
+    if (!v.rotation_only && v.prefix_frames > 0 && v.prefix_frames < frames)
+      names.push_back(prefixName(v.candidate, v.prefix_frames));
+  }
+  return names;
 }
 
 void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector3d>& centres) {

@@ -7,7 +7,7 @@ nlohmann::json toJson(const BranchVerdict& v) {
           {"collision_pc", v.collision_pc}, {"collision_depth", v.collision_depth},
           {"occupied_max", v.occupied_max}, {"min_near_ratio", std::isfinite(v.min_near_ratio) ? v.min_near_ratio : -1.0},
           {"slam_lost", v.slam_lost},       {"floor_unknown", v.floor_unknown},
-          {"enters_failed", v.enters_failed},
+          {"enters_failed", v.enters_failed}, {"prefix_frames", v.prefix_frames},
           {"c_new", v.c_new},               {"c_front", v.c_front},
           {"coverage", v.coverage},         {"progress", v.progress},
           {"score", v.score},               {"admissible", v.admissible},

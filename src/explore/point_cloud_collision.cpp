@@ -2,25 +2,34 @@
 
 namespace valerant {
 
-PointCloudCollision detectPointCloudCollision(const std::vector<HeightedPoint>& points,
-                                              const std::vector<FloorPlane>& samples,
-                                              const CollisionConfig& config, bool rotation_only) {
-  PointCloudCollision result;
+std::vector<int> bodyCylinderCounts(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& samples,
+                                    const CollisionConfig& config, double radius) {
   // Only body-level, confident points can ever count; filter them once.
   std::vector<Eigen::Vector3d> body;
   for (const auto& p : points)
     if (p.confidence >= config.min_confidence && p.h >= config.height_low && p.h <= config.height_high)
       body.push_back(p.position);
-
-  int run = 0;  // consecutive samples at or above N_occ
-  for (size_t i = 0; i < samples.size(); ++i) {
-    const FloorPlane& s = samples[i];
+  std::vector<int> counts;
+  for (const FloorPlane& s : samples) {
     const double kappa = s.cameraHeight();
     int count = 0;
     if (kappa > 0) {
-      const double radius2 = (config.body_radius * kappa) * (config.body_radius * kappa);
+      const double radius2 = (radius * kappa) * (radius * kappa);
       for (const auto& p : body) count += s.axisDistanceSquared(p) <= radius2;
     }
+    counts.push_back(count);
+  }
+  return counts;
+}
+
+PointCloudCollision detectPointCloudCollision(const std::vector<HeightedPoint>& points,
+                                              const std::vector<FloorPlane>& samples,
+                                              const CollisionConfig& config, bool rotation_only) {
+  PointCloudCollision result;
+  const std::vector<int> counts = bodyCylinderCounts(points, samples, config, config.body_radius);
+  int run = 0;  // consecutive samples at or above N_occ
+  for (size_t i = 0; i < counts.size(); ++i) {
+    const int count = counts[i];
     result.occupied_max = std::max(result.occupied_max, count);
     run = count >= config.n_occ ? run + 1 : 0;
     const bool sustained = run >= config.n_occ_consecutive;
@@ -28,6 +37,7 @@ PointCloudCollision detectPointCloudCollision(const std::vector<HeightedPoint>& 
     if (!rotation_only && !result.collision && (sustained || deep)) {
       result.collision = true;
       result.sample = static_cast<int>(i);
+      result.run_start = static_cast<int>(i) - (deep ? 0 : run - 1);
     }
   }
   return result;

@@ -93,6 +93,14 @@ class BranchSlot {
   ~BranchSlot() { spinner_.stop(); }  // before the members its callbacks use
 
   const std::string& candidate() const { return candidate_; }
+  // This slot's candidate or one of its clean prefixes (uw@31 runs on uw's slot).
+  bool isOwnCandidate(const std::string& name) const {
+    try {
+      return baseCandidate(name) == candidate_;
+    } catch (const InputError&) {
+      return false;
+    }
+  }
 
   std::optional<ChosenBranch> branchOf(RolloutId rollout_id) {
     std::lock_guard<std::mutex> lock(branch_mutex_);
@@ -156,7 +164,7 @@ class BranchSlot {
     if (key.index == 0) {
       branch_.reset();
       failed_rollout_ = 0;
-      if (key.candidate != candidate_) {
+      if (!isOwnCandidate(key.candidate)) {
         publishError(key, "frames of candidate '" + key.candidate + "' reached the branch of " + candidate_);
         failed_rollout_ = key.rollout_id;
         return;
@@ -296,7 +304,7 @@ class BranchSlam : public SlotHost {
     std::lock_guard<std::mutex> lock(chosen_mutex_);
     if (chosen_ && chosen_->rollout_id == rollout_id) return chosen_;
     for (const auto& slot : slots_)
-      if (slot->candidate() == candidate)
+      if (slot->candidate() == baseCandidate(candidate))
         if (auto branch = slot->branchOf(rollout_id)) return chosen_ = std::move(branch);
     return std::nullopt;
   }

@@ -148,7 +148,7 @@ class CollisionChecker {
 
   bool commit(valerant::Commit::Request& req, valerant::Commit::Response& res) {
     return guarded("collision_checker/commit", res, [&] {
-      const auto it = branches_.find(req.candidate);
+      const auto it = branches_.find(baseCandidate(req.candidate));
       if (it == branches_.end() || !it->second.done || it->second.result.key.rollout_id != req.rollout_id ||
           !it->second.result.error.empty())
         throw InputError("rollout " + std::to_string(req.rollout_id) + " of '" + req.candidate + "'",

@@ -162,7 +162,7 @@ class FloorEstimatorNode {
   bool commit(valerant::Commit::Request& req, valerant::Commit::Response& res) {
     return guarded("floor_estimator/commit", res, [&] {
       committed();
-      const auto it = branches_.find(req.candidate);
+      const auto it = branches_.find(baseCandidate(req.candidate));
       if (it == branches_.end() || it->second.rollout != req.rollout_id || it->second.failed)
         throw InputError("rollout " + std::to_string(req.rollout_id) + " of '" + req.candidate + "'",
                          "no such branch was estimated since the latest checkpoint");

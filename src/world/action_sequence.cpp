@@ -1,6 +1,8 @@
 #include "valerant/world/action_sequence.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <sstream>
 
 #include "valerant/common/error.h"
@@ -43,15 +45,50 @@ std::string candidateKeys(const std::string& name, const RolloutConfig& r) {
   return "";
 }
 
+int candidateFrames(const std::string& name, const RolloutConfig& r) {
+  const bool turns_then_moves = name == "jw" || name == "lw";
+  return r.horizon_frames + (turns_then_moves ? r.turn_forward_frames : 0);
+}
+
+// Splits "uw@31" into ("uw", 31); a name without '@' is returned whole with -1.
+std::pair<std::string, int> splitPrefix(const std::string& name) {
+  const size_t at = name.find('@');
+  if (at == std::string::npos) return {name, -1};
+  const std::string what = "action '" + name + "'";
+  const std::string base = name.substr(0, at);
+  const auto& names = candidateNames();
+  if (std::find(names.begin(), names.end(), base) == names.end())
+    throw InputError(what, "'" + base + "' is not a candidate (a prefix is <uw|jw|lw|jq|lq>@<frames>)");
+  int frames = 0;
+  try {
+    size_t used = 0;
+    frames = std::stoi(name.substr(at + 1), &used);
+    if (used != name.size() - at - 1) throw std::invalid_argument("trailing");
+  } catch (const std::exception&) {
+    throw InputError(what, "prefix frame count is not an integer");
+  }
+  return {base, frames};
+}
+
 }  // namespace
 
-ActionSequence makeActionSequence(const std::string& candidate_or_keys, const Config& config) {
+std::string baseCandidate(const std::string& name) { return splitPrefix(name).first; }
+
+std::string prefixName(const std::string& candidate, int frames) { return candidate + "@" + std::to_string(frames); }
+
+ActionSequence makeActionSequence(const std::string& name, const Config& config) {
+  const auto [candidate_or_keys, prefix_frames] = splitPrefix(name);
   const RolloutConfig& r = config.rollout;
   std::string keys = candidateKeys(candidate_or_keys, r);
   const bool is_candidate = !keys.empty();
   if (!is_candidate) keys = candidate_or_keys;
-  const std::string what = "action '" + candidate_or_keys + "'";
+  const std::string what = "action '" + name + "'";
   if (keys.empty()) throw InputError(what, "empty action string");
+  const int full_frames = candidateFrames(candidate_or_keys, r);
+  if (prefix_frames >= 0 && (prefix_frames < 1 || prefix_frames >= full_frames))
+    throw InputError(what, "prefix of " + std::to_string(prefix_frames) + " frames is outside [1, " +
+                               std::to_string(full_frames - 1) + "] (" + candidate_or_keys + " has " +
+                               std::to_string(full_frames) + ")");
 
   const double speed = config.world.d_fwd_units / r.horizon_frames;
   const double rotate_rate = r.rotate_deg / r.horizon_frames;
@@ -59,7 +96,7 @@ ActionSequence makeActionSequence(const std::string& candidate_or_keys, const Co
   const double turn_forward_rate = r.turn_forward_deg / r.horizon_frames;
 
   ActionSequence seq;
-  seq.name = candidate_or_keys;
+  seq.name = name;
   std::stringstream in(keys);
   std::string segment;
   while (std::getline(in, segment, ',')) {
@@ -99,6 +136,7 @@ ActionSequence makeActionSequence(const std::string& candidate_or_keys, const Co
     }
     seq.steps.insert(seq.steps.end(), frames, step);
   }
+  if (prefix_frames > 0) seq.steps.resize(prefix_frames);
   return seq;
 }
 

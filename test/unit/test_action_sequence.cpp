@@ -58,3 +58,26 @@ TEST(ActionSequence, BadActionStringsAreNamed) {
     }
   }
 }
+
+TEST(ActionSequence, CleanPrefixesAreTheirCandidatesFirstFrames) {
+  const Config c;
+  const ActionSequence uw31 = makeActionSequence("uw@31", c);
+  ASSERT_EQ(uw31.steps.size(), 31u);
+  EXPECT_EQ(uw31.name, "uw@31");
+  EXPECT_NEAR(uw31.totalForwardUnits(), 31 * 256.0 / 57, 1e-9);
+  // jw@60: the whole 57-frame turn (45 degrees) and 3 frames of the forward tail.
+  const ActionSequence jw60 = makeActionSequence(prefixName("jw", 60), c);
+  ASSERT_EQ(jw60.steps.size(), 60u);
+  EXPECT_NEAR(jw60.totalYawDeg(), 45.0, 1e-9);
+  EXPECT_NEAR(jw60.totalForwardUnits(), 60 * 256.0 / 57, 1e-9);
+  EXPECT_EQ(baseCandidate("jw@60"), "jw");
+  EXPECT_EQ(baseCandidate("lq"), "lq");
+  for (const std::string bad : {"uw@0", "uw@57", "jw@97", "xx@3", "uw@3x", "uw@", "w:3@2"}) {
+    try {
+      makeActionSequence(bad, c);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.input(), "action '" + bad + "'");
+    }
+  }
+}

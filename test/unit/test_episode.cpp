@@ -104,3 +104,43 @@ TEST(Episode, AStallWithNoRewindLeftEndsTheEpisode) {
   EXPECT_EQ(episode.history().size(), 1u);  // not the 3 x 3 steps of the step cap
   EXPECT_EQ(episode.committedSteps(), 0);
 }
+
+// oa_dm4 spawn 0 faces a wall within one forward action: every full translation enters
+// solid (ground truth), so the step judges their clean prefixes too and commits one
+// that moves and stays out of solid. Without prefixes the same step only turns.
+TEST(Episode, ADeadEndAheadCommitsACleanPrefix) {
+  VALERANT_REQUIRE_OPENARENA();
+  Config config = smallConfig(1);
+  config.world.map = "oa_dm4";
+  auto map = quake3::loadQuake3Map("oa_dm4", config.world.patch_level);
+  auto firstStep = [&](const Config& c) {
+    quake3::Quake3World world(map, c);
+    Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), c.slam), c);
+    return episode.step();
+  };
+  const StepRecord with = firstStep(config);
+  ASSERT_GT(with.candidates.size(), 5u);
+  for (size_t i = 0; i < 5; ++i) {
+    const CandidateRecord& c = with.candidates[i];
+    bool enters_solid = false;
+    for (const auto& f : c.truth) enters_solid |= f.in_solid;
+    EXPECT_EQ(enters_solid, !c.verdict.rotation_only) << c.verdict.candidate;
+    EXPECT_FALSE(c.verdict.admissible && !c.verdict.rotation_only) << c.verdict.candidate;
+  }
+  ASSERT_GE(with.chosen, 5);
+  const CandidateRecord& chosen = with.candidates[with.chosen];
+  const std::string base = baseCandidate(chosen.verdict.candidate);
+  ASSERT_NE(base, chosen.verdict.candidate);  // a prefix, e.g. jw@40
+  EXPECT_FALSE(chosen.verdict.rotation_only);
+  for (const auto& f : chosen.truth) EXPECT_FALSE(f.in_solid);
+  for (size_t i = 0; i < 5; ++i)
+    if (with.candidates[i].verdict.candidate == base)
+      EXPECT_EQ(chosen.verdict.candidate, prefixName(base, with.candidates[i].verdict.prefix_frames));
+  EXPECT_EQ(chosen.truth.size(), makeActionSequence(chosen.verdict.candidate, config).steps.size());
+
+  config.collision.prefix_commits = false;
+  const StepRecord without = firstStep(config);
+  ASSERT_EQ(without.candidates.size(), 5u);
+  ASSERT_GE(without.chosen, 0);
+  EXPECT_TRUE(without.candidates[without.chosen].verdict.rotation_only);
+}

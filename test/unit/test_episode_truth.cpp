@@ -20,6 +20,7 @@ TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
   config.world.spawn = 0;
   config.policy.budget_steps = 2;
   config.slam.backend = "oracle";
+  config.collision.prefix_commits = false;  // every full translation collides here; a prefix would move
   auto map = quake3::loadQuake3Map("oa_dm4", config.world.patch_level);
   quake3::Quake3World world(map, config);
   Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);

@@ -85,6 +85,15 @@ struct CollisionConfig {
   double center_fraction = 1.0 / 3.0;
   double d_near = 0.455;
   double s_min_coefficient = 0.085;
+  // Clean prefixes [ours] (clean_prefix.h): when no full translation is admissible,
+  // the part of each rejected one that stops prefix_margin eye heights short of where
+  // its first test fired, its SLAM lost track or N_occ of its points come within
+  // prefix_clearance eye heights of the body axis is judged as a candidate of its own,
+  // if it advances at least prefix_min_advance eye heights.
+  bool prefix_commits = true;
+  double prefix_margin = 1.0;
+  double prefix_clearance = 0.5;
+  double prefix_min_advance = 1.0;
 };
 
 struct DeadPocketConfig {

@@ -44,7 +44,8 @@ class BranchCheck {
   // The floor of every frame so far, unknown ones filled from the first known one
   // (all still unknown when no frame has a known floor).
   std::vector<FloorPlane> floors() const;
-  // Collision fields, rotation_only, slam_lost and floor_unknown of the verdict.
+  // Collision fields, rotation_only, slam_lost, floor_unknown and prefix_frames of
+  // the verdict.
   BranchVerdict finish(const std::string& candidate, bool rotation_only) const;
 
  private:
@@ -59,7 +60,7 @@ class BranchCheck {
   std::vector<Eigen::Isometry3d> poses_;
   std::vector<double> central_depths_;
   std::vector<KeyframePoints> keyframes_;
-  bool lost_ = false;
+  int first_lost_ = -1;  // first frame the SLAM lost track, -1 = never
 };
 
 // The points of a committed step that the next step's check counts: every keyframe

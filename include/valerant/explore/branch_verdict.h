@@ -15,6 +15,10 @@ struct BranchVerdict {
   bool slam_lost = false;
   bool floor_unknown = false;  // a translation judged without any reliable floor
   bool enters_failed = false;
+  // Leading frames clear by collision.prefix_margin of every fired test, SLAM loss and
+  // the prefix_clearance cylinder (clean_prefix.h): all frames when none of them
+  // happened, 0 when no prefix advances far enough.
+  int prefix_frames = 0;
   double c_new = 0, c_front = 0, coverage = 0, progress = 0;
   double score = 0;
   bool admissible = false;

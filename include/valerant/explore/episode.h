@@ -6,7 +6,8 @@
 // admissible candidates (asked of a BranchSelector) is committed (its rollout and
 // SLAM branch are reused: both backends are deterministic) and fused into the map; a
 // dead pocket rewinds to an earlier checkpoint and grows the failed-region memory
-// (eq. 8). The same step code runs with in-process components (valerant_explore) and
+// (eq. 8). When none of the five translations is admissible, the clean prefixes of the
+// rejected ones are judged too and the choice is made again ([ours], clean_prefix.h). The same step code runs with in-process components (valerant_explore) and
 // with the ROS graph's proxies (the explorer node): one code path, the same decisions.
 #include <atomic>
 #include <functional>
@@ -79,6 +80,11 @@ class Episode {
   const Config& config() const { return config_; }
 
  private:
+  struct Candidates {  // one step's judged candidates, index-aligned
+    std::vector<BranchResult> results;
+    std::vector<std::vector<Eigen::Vector3d>> centres;  // committed start, then one per frame
+    std::vector<BranchVerdict> verdicts;
+  };
   struct Saved {
     CoverageGrid grid;
     size_t map_marker, trajectory_size;
@@ -87,6 +93,11 @@ class Episode {
   // Uses `pipeline` and `selector` when given, else the owned ones.
   Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline, std::unique_ptr<BranchSelector> own_selector,
           BranchPipeline* pipeline, BranchSelector* selector, const Config& config);
+  // Rolls out, reconstructs and scores `names` from the committed state into `out`.
+  void judge(const std::vector<std::string>& names, const Cell& start_cell, StepRecord& record, Candidates& out);
+  // The clean prefixes (clean_prefix.h) worth judging after the first choice: none
+  // while one of the paper's translations is admissible.
+  std::vector<std::string> cleanPrefixes(const Candidates& judged) const;
   // Fuses the keyframes of a result whose floor is known; returns how many.
   size_t fuseKnown(const BranchResult& result);
   void anchorGrid(bool reliable_floor);

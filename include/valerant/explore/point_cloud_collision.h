@@ -27,7 +27,12 @@ struct PointCloudCollision {
   bool collision = false;
   int occupied_max = 0;  // largest count_i over the samples
   int sample = -1;       // first sample where the test fired
+  int run_start = -1;    // first sample of the run of occupied samples that fired
 };
+
+// count_i of every sample, with the body radius `radius` (normalised, rho for eq. 6).
+std::vector<int> bodyCylinderCounts(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& samples,
+                                    const CollisionConfig& config, double radius);
 
 // `samples`: one floor per trajectory sample, with FloorPlane::c its camera centre.
 PointCloudCollision detectPointCloudCollision(const std::vector<HeightedPoint>& points,

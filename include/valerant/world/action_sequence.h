@@ -6,6 +6,9 @@
 // frames, then forward for 40. The five paper candidates (eq. 3) are key strings
 // built from the rollout config:
 //   uw = "w:H"      jw = "jw:H,w:T"   lw = "lw:H,w:T"   jq = "j:H"   lq = "l:H"
+// A candidate's clean prefix ([ours], collision.prefix_commits) is named
+// "<candidate>@<frames>", e.g. "uw@31" = the first 31 frames of uw: the part of a
+// rejected translation that stops short of the obstacle (clean_prefix.h).
 #include <string>
 #include <vector>
 
@@ -31,7 +34,12 @@ struct ActionSequence {
 // The paper's candidates, in the paper's order (eq. 3).
 const std::vector<std::string>& candidateNames();
 
-// A candidate name (uw, jw, lw, jq, lq) or a key string. Speeds: w moves d_fwd/H
+// "uw@31" for the first 31 frames of uw (makeActionSequence checks the count).
+std::string prefixName(const std::string& candidate, int frames);
+// The paper candidate a name is (a prefix of): "uw@31" -> "uw", "jq" -> "jq".
+std::string baseCandidate(const std::string& name);
+
+// A candidate name (uw, jw, lw, jq, lq), a candidate prefix (uw@31) or a key string. Speeds: w moves d_fwd/H
 // units per frame; j/l turn rotate_deg/H per frame, except inside jw/lw whose turn
 // segment turns turn_forward_deg over H frames. Throws InputError naming the string
 // for an unknown candidate, key or malformed segment.
