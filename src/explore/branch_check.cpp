@@ -77,12 +77,14 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     if (pc.collision) unsafeAt(pc.run_start);
     // A prefix also keeps prefix_clearance from the branch's points: rho leaves the
     // Quake III hull (0.30 to 0.42 eye heights from its axis) touching what eq. 6 passes.
-    const std::vector<int> wide = bodyCylinderCounts(points, floors, config_, config_.prefix_clearance);
-    for (size_t i = 0; i < wide.size(); ++i)
-      if (wide[i] >= config_.n_occ) {
-        unsafeAt(static_cast<int>(i));
-        break;
-      }
+    if (config_.prefix_commits) {
+      const std::vector<int> wide = bodyCylinderCounts(points, floors, config_, config_.prefix_clearance);
+      for (size_t i = 0; i < wide.size(); ++i)
+        if (wide[i] >= config_.n_occ) {
+          unsafeAt(static_cast<int>(i));
+          break;
+        }
+    }
   }
   std::vector<DepthSample> depth_samples;
   for (size_t i = 0; i < floors.size(); ++i)

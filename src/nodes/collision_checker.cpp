@@ -105,7 +105,7 @@ class CollisionChecker {
       if (t.key.index + 1 == t.key.count) {
         b.result.header.stamp = ::ros::Time::now();
         b.result.header.frame_id = "map";
-        b.result.verdict = valerant::bridge::toMsg(b.check->finish(candidate, t.key.rotation_only));
+        b.result.verdict = valerant::bridge::toMsg(b.check->finish(t.key.candidate, t.key.rotation_only));
         // Keyframes made before the branch's first floor get it back-filled, exactly as
         // in the in-process pipeline (BranchCheck::floors), so both fuse the same map.
         const std::vector<FloorPlane> floors = b.check->floors();
