@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include "valerant/common/error.h"
 
@@ -50,6 +51,17 @@ int candidateFrames(const std::string& name, const RolloutConfig& r) {
   return r.horizon_frames + (turns_then_moves ? r.turn_forward_frames : 0);
 }
 
+// The integer that `text` is in full (nothing after it), if any.
+std::optional<int> wholeInteger(const std::string& text) {
+  try {
+    size_t used = 0;
+    const int value = std::stoi(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
 // Splits "uw@31" into ("uw", 31); a name without '@' is returned whole with -1.
 std::pair<std::string, int> splitPrefix(const std::string& name) {
   const size_t at = name.find('@');
@@ -59,15 +71,9 @@ std::pair<std::string, int> splitPrefix(const std::string& name) {
   const auto& names = candidateNames();
   if (std::find(names.begin(), names.end(), base) == names.end())
     throw InputError(what, "'" + base + "' is not a candidate (a prefix is <uw|jw|lw|jq|lq>@<frames>)");
-  int frames = 0;
-  try {
-    size_t used = 0;
-    frames = std::stoi(name.substr(at + 1), &used);
-    if (used != name.size() - at - 1) throw std::invalid_argument("trailing");
-  } catch (const std::exception&) {
-    throw InputError(what, "prefix frame count is not an integer");
-  }
-  return {base, frames};
+  const std::optional<int> frames = wholeInteger(name.substr(at + 1));
+  if (!frames) throw InputError(what, "prefix frame count is not an integer");
+  return {base, *frames};
 }
 
 }  // namespace
@@ -105,14 +111,9 @@ ActionSequence makeActionSequence(const std::string& name, const Config& config)
       throw InputError(what, "segment '" + segment +
                                  "' is not KEYS:FRAMES (unknown candidate? use uw, jw, lw, jq, lq)");
     const std::string held = segment.substr(0, colon);
-    int frames = 0;
-    try {
-      size_t used = 0;
-      frames = std::stoi(segment.substr(colon + 1), &used);
-      if (used != segment.size() - colon - 1) throw std::invalid_argument("trailing");
-    } catch (const std::exception&) {
-      throw InputError(what, "frame count in '" + segment + "' is not an integer");
-    }
+    const std::optional<int> parsed = wholeInteger(segment.substr(colon + 1));
+    if (!parsed) throw InputError(what, "frame count in '" + segment + "' is not an integer");
+    const int frames = *parsed;
     if (frames < 1 || frames > 100000) throw InputError(what, "frame count in '" + segment + "' out of [1, 100000]");
 
     const bool moves = held.find_first_of("wsad") != std::string::npos;
