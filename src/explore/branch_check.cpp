@@ -95,9 +95,15 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     v.collision_depth = dc.collision;
     if (dc.collision) unsafeAt(dc.frame);
   }
-  v.prefix_frames = rotation_only ? static_cast<int>(floors.size())
-                                  : cleanPrefixFrames(floors, first_unsafe, reference, config_.prefix_margin,
-                                                      config_.prefix_min_advance);
+  // A branch that lost track with neither test fired offers no prefix: the loss says
+  // nothing about where the obstacle is (a camera inside a Quake III brush sees through
+  // it, so the SLAM keeps tracking through thin walls): oa_dm3 spawn 1, oa_dm4 spawn 2.
+  const bool blind_loss = v.slam_lost && !v.collision_pc && !v.collision_depth;
+  if (rotation_only)
+    v.prefix_frames = static_cast<int>(floors.size());
+  else if (!blind_loss)
+    v.prefix_frames = cleanPrefixFrames(floors, first_unsafe, reference, config_.prefix_margin,
+                                        config_.prefix_min_advance);
   return v;
 }
 

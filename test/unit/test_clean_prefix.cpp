@@ -114,19 +114,31 @@ TEST(CleanPrefix, BranchCheckKeepsTheWiderClearance) {
   EXPECT_EQ(walkPastTheWall(config, false).prefix_frames, 0);
 }
 
-// Lost at frame 6 with no wall: measured from frame 5 (z = 0.5), margin 0.5 (0.25
-// units): z <= 0.25, frame 2, so 3 frames.
-TEST(CleanPrefix, BranchCheckCutsBeforeALostFrame) {
+// Lost at frame 6. Behind a wall that eq. 6 caught (the wall of the tests above, with
+// clearance 0.2 so it is unsafe from frame 4 only), the loss is the later event and the
+// cut stays at frame 4: 2 frames. Lost at frame 3, before the wall: measured from
+// frame 2 (z = 0.2), margin 0.5 (0.25 units): z <= -0.05, nothing. With no wall at all
+// the loss alone is no evidence of where an obstacle is: no prefix.
+TEST(CleanPrefix, BranchCheckCutsBeforeALostFrameOnlyWithAWallSeen) {
   Config config;
   config.collision.prefix_margin = 0.5;
   config.collision.prefix_min_advance = 0.1;
-  BranchCheck check(config, nullptr);
-  for (int i = 0; i < 10; ++i) {
-    TrackedFrame f = trackedAtZ(0.1 * i);
-    if (i >= 6) f.state = TrackingState::kLost;
-    check.add(f, nullptr, valerant::test::floorBelow(f.camera_to_map.translation(), 0.5));
-  }
-  const BranchVerdict v = check.finish("uw", false);
-  EXPECT_TRUE(v.slam_lost);
-  EXPECT_EQ(v.prefix_frames, 3);
+  config.collision.prefix_clearance = 0.2;
+  auto walk = [&](std::shared_ptr<const std::vector<CloudPoint>> wall, int lost_from) {
+    BranchCheck check(config, std::move(wall));
+    for (int i = 0; i < 10; ++i) {
+      TrackedFrame f = trackedAtZ(0.1 * i);
+      if (i >= lost_from) f.state = TrackingState::kLost;
+      check.add(f, nullptr, valerant::test::floorBelow(f.camera_to_map.translation(), 0.5));
+    }
+    return check.finish("uw", false);
+  };
+  const BranchVerdict behind = walk(wallFromZ03(), 6);
+  EXPECT_TRUE(behind.slam_lost && behind.collision_pc);
+  EXPECT_EQ(behind.prefix_frames, 2);
+  EXPECT_EQ(walk(wallFromZ03(), 3).prefix_frames, 0);
+  const BranchVerdict blind = walk(nullptr, 6);
+  EXPECT_TRUE(blind.slam_lost);
+  EXPECT_FALSE(blind.collision_pc || blind.collision_depth);
+  EXPECT_EQ(blind.prefix_frames, 0);
 }

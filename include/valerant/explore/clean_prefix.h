@@ -11,7 +11,9 @@
 // where f is the first unsafe frame, r the frame the obstacle is measured from (f, or
 // the last tracked frame f-1 when the SLAM lost track at f), |.|_h the distance across
 // the floor normal of frame r and kappa_r its camera-to-floor distance. k = 0 when no
-// prefix advances far enough; k = all frames when nothing fired. Episode judges the
+// prefix advances far enough; k = all frames when nothing fired. A branch that only
+// lost track (neither test fired) offers none (BranchCheck): a camera inside a Quake III
+// brush sees through it, so a loss does not mark the obstacle. Episode judges the
 // prefix as a new candidate ("uw@k"), rolled out and reconstructed afresh.
 #include <vector>
 
