@@ -7,8 +7,9 @@
 // SLAM branch are reused: both backends are deterministic) and fused into the map; a
 // dead pocket rewinds to an earlier checkpoint and grows the failed-region memory
 // (eq. 8). When none of the five translations is admissible, the clean prefixes of the
-// rejected ones are judged too and the choice is made again ([ours], clean_prefix.h). The same step code runs with in-process components (valerant_explore) and
-// with the ROS graph's proxies (the explorer node): one code path, the same decisions.
+// rejected ones are judged too and the choice is made again ([ours], clean_prefix.h).
+// The same step code runs with in-process components (valerant_explore) and with the
+// ROS graph's proxies (the explorer node): one code path, the same decisions.
 #include <atomic>
 #include <functional>
 #include <map>
