@@ -161,7 +161,6 @@ class WorldModelServer {
     const auto goal = rollout_server_.acceptNewGoal();
     valerant::RolloutResult result;
     try {
-      // A clean prefix (uw@31) streams on its candidate's branch.
       const auto& names = candidateNames();
       if (std::find(names.begin(), names.end(), baseCandidate(goal->candidate)) == names.end())
         throw InputError("candidate '" + goal->candidate + "'", "unknown (one of uw, jw, lw, jq, lq, or e.g. uw@31)");
@@ -186,7 +185,9 @@ class WorldModelServer {
   }
 
   void publishFrames(const Rollout& r, const std::string& candidate, bool rotation_only) {
-    ::ros::Publisher& pub = frames_.at(baseCandidate(candidate));
+    const std::string slot = baseCandidate(candidate);  // a clean prefix streams on its candidate's branch
+    ::ros::Publisher& pub = frames_.at(slot);
+    ::ros::Publisher& images = images_.at(slot);
     // Frames sent before a subscriber (branch_slam, a recorder) is connected are lost.
     const ::ros::WallTime deadline = ::ros::WallTime::now() + ::ros::WallDuration(subscriber_timeout_s_);
     while (static_cast<int>(pub.getNumSubscribers()) < wait_for_subscribers_ && ::ros::WallTime::now() < deadline)
@@ -197,7 +198,6 @@ class WorldModelServer {
     valerant::RolloutFeedback feedback;
     for (size_t i = 0; i < r.frames.size(); ++i) {
       pub.publish(frameMsg(r, i, current_, candidate, rotation_only));
-      ::ros::Publisher& images = images_.at(baseCandidate(candidate));
       if (images.getNumSubscribers() > 0) images.publish(valerant::bridge::toImageMsg(r.frames[i]));
       feedback.frames_done = static_cast<uint32_t>(i + 1);
       rollout_server_.publishFeedback(feedback);

@@ -46,11 +46,6 @@ std::string candidateKeys(const std::string& name, const RolloutConfig& r) {
   return "";
 }
 
-int candidateFrames(const std::string& name, const RolloutConfig& r) {
-  const bool turns_then_moves = name == "jw" || name == "lw";
-  return r.horizon_frames + (turns_then_moves ? r.turn_forward_frames : 0);
-}
-
 // The integer that `text` is in full (nothing after it), if any.
 std::optional<int> wholeInteger(const std::string& text) {
   try {
@@ -90,11 +85,6 @@ ActionSequence makeActionSequence(const std::string& name, const Config& config)
   if (!is_candidate) keys = candidate_or_keys;
   const std::string what = "action '" + name + "'";
   if (keys.empty()) throw InputError(what, "empty action string");
-  const int full_frames = candidateFrames(candidate_or_keys, r);
-  if (prefix_frames >= 0 && (prefix_frames < 1 || prefix_frames >= full_frames))
-    throw InputError(what, "prefix of " + std::to_string(prefix_frames) + " frames is outside [1, " +
-                               std::to_string(full_frames - 1) + "] (" + candidate_or_keys + " has " +
-                               std::to_string(full_frames) + ")");
 
   const double speed = config.world.d_fwd_units / r.horizon_frames;
   const double rotate_rate = r.rotate_deg / r.horizon_frames;
@@ -137,7 +127,14 @@ ActionSequence makeActionSequence(const std::string& name, const Config& config)
     }
     seq.steps.insert(seq.steps.end(), frames, step);
   }
-  if (prefix_frames > 0) seq.steps.resize(prefix_frames);
+  if (prefix_frames >= 0) {
+    const int full_frames = static_cast<int>(seq.steps.size());
+    if (prefix_frames < 1 || prefix_frames >= full_frames)
+      throw InputError(what, "prefix of " + std::to_string(prefix_frames) + " frames is outside [1, " +
+                                 std::to_string(full_frames - 1) + "] (" + candidate_or_keys + " has " +
+                                 std::to_string(full_frames) + ")");
+    seq.steps.resize(prefix_frames);
+  }
   return seq;
 }
 

@@ -76,13 +76,21 @@ std::shared_ptr<const std::vector<CloudPoint>> wallFromZ03() {
   return wall;
 }
 
-BranchVerdict walkPastTheWall(const Config& config, bool rotation_only) {
-  BranchCheck check(config, wallFromZ03());
+// The walk of test_previous_step_points.cpp (z = 0 .. 0.9, kappa 0.5) beside `wall`,
+// the SLAM lost from frame `lost_from` on.
+BranchVerdict walkBeside(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> wall,
+                         bool rotation_only, int lost_from = 10) {
+  BranchCheck check(config, std::move(wall));
   for (int i = 0; i < 10; ++i) {
-    const TrackedFrame f = trackedAtZ(0.1 * i);
+    TrackedFrame f = trackedAtZ(0.1 * i);
+    if (i >= lost_from) f.state = TrackingState::kLost;
     check.add(f, nullptr, valerant::test::floorBelow(f.camera_to_map.translation(), 0.5));
   }
   return check.finish(rotation_only ? "jq" : "uw", rotation_only);
+}
+
+BranchVerdict walkPastTheWall(const Config& config, bool rotation_only) {
+  return walkBeside(config, wallFromZ03(), rotation_only);
 }
 
 }  // namespace
@@ -125,13 +133,7 @@ TEST(CleanPrefix, BranchCheckCutsBeforeALostFrameOnlyWithAWallSeen) {
   config.collision.prefix_min_advance = 0.1;
   config.collision.prefix_clearance = 0.2;
   auto walk = [&](std::shared_ptr<const std::vector<CloudPoint>> wall, int lost_from) {
-    BranchCheck check(config, std::move(wall));
-    for (int i = 0; i < 10; ++i) {
-      TrackedFrame f = trackedAtZ(0.1 * i);
-      if (i >= lost_from) f.state = TrackingState::kLost;
-      check.add(f, nullptr, valerant::test::floorBelow(f.camera_to_map.translation(), 0.5));
-    }
-    return check.finish("uw", false);
+    return walkBeside(config, std::move(wall), false, lost_from);
   };
   const BranchVerdict behind = walk(wallFromZ03(), 6);
   EXPECT_TRUE(behind.slam_lost && behind.collision_pc);
