@@ -269,8 +269,10 @@ cv::Mat plotCoverageCurves(const std::vector<ConfigSummary>& summaries) {
 
 cv::Mat plotBars(const std::vector<ConfigSummary>& summaries, double ConfigSummary::*value, const std::string& title) {
   const int bar = 50, gap = 20, left = 50, h = 360, bottom = 60, top = 40;
-  const int w = left + static_cast<int>(summaries.size()) * (bar + gap) + gap;
-  cv::Mat img(h, std::max(w, 320), CV_8UC3, cv::Scalar::all(255));
+  const int bars_width = left + static_cast<int>(summaries.size()) * (bar + gap) + gap;
+  int baseline = 0;
+  const int title_width = cv::getTextSize(title, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, &baseline).width + 20;
+  cv::Mat img(h, std::max({bars_width, title_width, 320}), CV_8UC3, cv::Scalar::all(255));
   double top_value = 1e-9;
   for (const auto& s : summaries) top_value = std::max(top_value, s.*value);
   cv::putText(img, title, {10, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar::all(0));
