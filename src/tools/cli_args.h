@@ -2,13 +2,14 @@
 // Minimal "--key value" / "--flag" parser shared by the command-line tools. Unknown
 // options are errors, so a typo never silently runs with defaults.
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "valerant/common/error.h"
+#include "valerant/common/whole_integer.h"
 
 namespace valerant::tools {
 
@@ -40,12 +41,7 @@ class CliArgs {
   }
   long integer(const std::string& key, long fallback) const {
     if (!has(key)) return fallback;
-    try {
-      size_t used = 0;
-      const long v = std::stol(get(key), &used);
-      if (used == get(key).size()) return v;
-    } catch (const std::exception&) {
-    }
+    if (const std::optional<long> v = wholeInteger<long>(get(key))) return *v;
     throw InputError(key + " " + get(key), "is not an integer");
   }
 

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "valerant/common/error.h"
+#include "valerant/common/whole_integer.h"
 
 namespace valerant {
 
@@ -46,17 +47,6 @@ std::string candidateKeys(const std::string& name, const RolloutConfig& r) {
   return "";
 }
 
-// The integer that `text` is in full (nothing after it), if any.
-std::optional<int> wholeInteger(const std::string& text) {
-  try {
-    size_t used = 0;
-    const int value = std::stoi(text, &used);
-    if (used == text.size()) return value;
-  } catch (const std::exception&) {
-  }
-  return std::nullopt;
-}
-
 // Splits "uw@31" into ("uw", 31); a name without '@' is returned whole with -1.
 std::pair<std::string, int> splitPrefix(const std::string& name) {
   const size_t at = name.find('@');
@@ -66,7 +56,7 @@ std::pair<std::string, int> splitPrefix(const std::string& name) {
   const auto& names = candidateNames();
   if (std::find(names.begin(), names.end(), base) == names.end())
     throw InputError(what, "'" + base + "' is not a candidate (a prefix is <uw|jw|lw|jq|lq>@<frames>)");
-  const std::optional<int> frames = wholeInteger(name.substr(at + 1));
+  const std::optional<int> frames = wholeInteger<int>(name.substr(at + 1));
   if (!frames) throw InputError(what, "prefix frame count is not an integer");
   return {base, *frames};
 }
@@ -101,7 +91,7 @@ ActionSequence makeActionSequence(const std::string& name, const Config& config)
       throw InputError(what, "segment '" + segment +
                                  "' is not KEYS:FRAMES (unknown candidate? use uw, jw, lw, jq, lq)");
     const std::string held = segment.substr(0, colon);
-    const std::optional<int> parsed = wholeInteger(segment.substr(colon + 1));
+    const std::optional<int> parsed = wholeInteger<int>(segment.substr(colon + 1));
     if (!parsed) throw InputError(what, "frame count in '" + segment + "' is not an integer");
     const int frames = *parsed;
     if (frames < 1 || frames > 100000) throw InputError(what, "frame count in '" + segment + "' out of [1, 100000]");
