@@ -179,7 +179,6 @@ void readCollision(Section s, CollisionConfig& c) {
   s.number("prefix_margin", c.prefix_margin, 0.0, 100.0);
   s.number("prefix_clearance", c.prefix_clearance, 0.0, 100.0);
   s.number("prefix_min_advance", c.prefix_min_advance, 0.0, 100.0);
-  s.boolean("require_clearance", c.require_clearance);
   s.finish();
 }
 

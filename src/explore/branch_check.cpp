@@ -7,26 +7,6 @@
 
 namespace valerant {
 
-namespace {
-
-// N_occ points within prefix_clearance of the body axis at one sample, counting only
-// points farther than that from the start's axis: a body that starts beside a wall may
-// walk along or away from it.
-bool breachesClearance(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& floors,
-                       const CollisionConfig& config) {
-  const FloorPlane& start = floors.front();
-  const double reach = config.prefix_clearance * start.cameraHeight();
-  if (!(reach > 0)) return false;  // no body to measure from (eq. 6 skips such samples too)
-  std::vector<HeightedPoint> approached;
-  for (const HeightedPoint& p : points)
-    if (start.axisDistanceSquared(p.position) > reach * reach) approached.push_back(p);
-  for (const int count : bodyCylinderCounts(approached, floors, config, config.prefix_clearance))
-    if (count >= config.n_occ) return true;
-  return false;
-}
-
-}  // namespace
-
 BranchCheck::BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> previous_step)
     : config_(config.collision),
       previous_step_(config.collision.previous_step_points ? std::move(previous_step) : nullptr),
@@ -105,8 +85,6 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
           break;
         }
     }
-    if (config_.require_clearance && !rotation_only)
-      v.clearance_breached = breachesClearance(points, floors, config_);
   }
   std::vector<DepthSample> depth_samples;
   for (size_t i = 0; i < floors.size(); ++i)

@@ -27,7 +27,6 @@ int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& confi
     if (v.floor_unknown) reason += "floor unknown;";
     if (v.collision_pc) reason += "point-cloud collision;";
     if (v.collision_depth) reason += "depth collision;";
-    if (v.clearance_breached) reason += "within body clearance;";
     if (v.enters_failed) reason += "enters failed region;";
     if (!reason.empty()) reason.pop_back();
     v.reason = reason;

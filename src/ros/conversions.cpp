@@ -210,7 +210,6 @@ valerant::Verdict toMsg(const BranchVerdict& v, const std::vector<Eigen::Vector3
   msg.slam_lost = v.slam_lost;
   msg.floor_unknown = v.floor_unknown;
   msg.enters_failed = v.enters_failed;
-  msg.clearance_breached = v.clearance_breached;
   msg.prefix_frames = static_cast<uint32_t>(std::max(0, v.prefix_frames));
   msg.c_new = v.c_new, msg.c_front = v.c_front, msg.coverage = v.coverage, msg.progress = v.progress;
   msg.score = v.score;
@@ -235,7 +234,6 @@ BranchVerdict fromMsg(const valerant::Verdict& msg) {
   v.slam_lost = msg.slam_lost;
   v.floor_unknown = msg.floor_unknown;
   v.enters_failed = msg.enters_failed;
-  v.clearance_breached = msg.clearance_breached;
   v.prefix_frames = static_cast<int>(msg.prefix_frames);
   v.c_new = msg.c_new, v.c_front = msg.c_front, v.coverage = msg.coverage, v.progress = msg.progress;
   v.score = msg.score;

@@ -144,31 +144,3 @@ TEST(CleanPrefix, BranchCheckCutsBeforeALostFrameOnlyWithAWallSeen) {
   EXPECT_FALSE(blind.collision_pc || blind.collision_depth);
   EXPECT_EQ(blind.prefix_frames, 0);
 }
-
-// Body clearance (collision.require_clearance) on the same walk, default clearance 0.5
-// (0.25 units). No wall point is within 0.25 of the start's axis (the nearest is
-// sqrt(0.08^2 + 0.3^2) = 0.31 away), and at frame 2 (z = 0.2) 56 of them are within it
-// (see above): breached, though eq. 6 alone would commit frames 0-3. A rotation is
-// never breached, and with the switch off nothing is.
-TEST(BodyClearance, APathThatApproachesAWallBreachesIt) {
-  Config config;
-  const BranchVerdict walk = walkPastTheWall(config, false);
-  EXPECT_TRUE(walk.clearance_breached);
-  EXPECT_FALSE(walkPastTheWall(config, true).clearance_breached);
-  config.collision.require_clearance = false;
-  EXPECT_FALSE(walkPastTheWall(config, false).clearance_breached);
-}
-
-// A wall beside and behind the start, x = 0.08, z = -0.20 .. 0: the previous step drops
-// the 28 points within rho 0.105 of the start's axis (|z| <= 0.068), and the other 56 are
-// all within 0.25 of it (at most sqrt(0.08^2 + 0.2^2) = 0.215): walking away from it
-// breaches nothing. Counted at frame 0, the same 56 would have breached.
-TEST(BodyClearance, AWallBesideTheStartIsNotApproached) {
-  auto wall = std::make_shared<std::vector<CloudPoint>>();
-  for (int i = -20; i <= 0; ++i)
-    for (double y : {0.05, 0.15, 0.25, 0.35})
-      wall->push_back({Eigen::Vector3f(0.08f, static_cast<float>(y), 0.01f * i), {}, 10.f});
-  const BranchVerdict v = walkBeside(Config(), wall, false);
-  EXPECT_FALSE(v.collision_pc);
-  EXPECT_FALSE(v.clearance_breached);
-}

@@ -8,7 +8,6 @@
 #include "valerant/explore/episode_json.h"
 #include "valerant/explore/local_branch_pipeline.h"
 #include "valerant/slam/oracle_slam.h"
-#include "valerant/world/action_sequence.h"
 #include "valerant/world/quake3/quake3_world.h"
 
 using namespace valerant;
@@ -54,16 +53,7 @@ TEST(Episode, SameSeedSameDecisionsAndConsistentBookkeeping) {
   EXPECT_EQ(episode.trajectory().size(), frames);
   EXPECT_EQ(episode.truth().size(), frames);
   EXPECT_GT(episode.map().pointCount(), 1000u);
-  // The five paper candidates, then clean prefixes only when none of the three
-  // translations was admissible.
-  for (const auto& r : episode.history()) {
-    ASSERT_GE(r.candidates.size(), 5u);
-    for (size_t i = 0; i < 5; ++i) EXPECT_EQ(r.candidates[i].verdict.candidate, candidateNames()[i]);
-    if (r.candidates.size() == 5u) continue;
-    for (size_t i = 0; i < 3; ++i) EXPECT_FALSE(r.candidates[i].verdict.admissible);
-    for (size_t i = 5; i < r.candidates.size(); ++i)
-      EXPECT_NE(r.candidates[i].verdict.candidate.find('@'), std::string::npos);
-  }
+  for (const auto& r : episode.history()) EXPECT_EQ(r.candidates.size(), 5u);
   // The oracle map frame is the BSP frame in metres: the last pose is the world's camera.
   EXPECT_TRUE(episode.trajectory().back().translation().isApprox(
       world.kinematics().cameraToWorld(world.camera()).translation() / 32.0, 1e-9));

@@ -95,11 +95,6 @@ TEST(Policy, ArgmaxOverAdmissibleWithDeterministicTies) {
   EXPECT_EQ(selectBranch(v, config), -1);
   EXPECT_EQ(v[3].reason, "enters failed region");
   EXPECT_EQ(v[4].reason, "slam lost");
-  // A translation within the body clearance is rejected like a collision.
-  v[1].collision_pc = false;
-  v[1].clearance_breached = true;
-  EXPECT_EQ(selectBranch(v, config), -1);
-  EXPECT_EQ(v[1].reason, "within body clearance");
 }
 
 TEST(FailedRegionMemory, EnteringIsLeavingTheStartCellIntoF) {

@@ -94,11 +94,6 @@ struct CollisionConfig {
   double prefix_margin = 1.0;
   double prefix_clearance = 0.5;
   double prefix_min_advance = 1.0;
-  // Body clearance [ours] (branch_check.h): a translation along which N_occ of its
-  // points come within prefix_clearance eye heights of the body axis, closer than they
-  // were at its start, is not committed whole (only its clean prefix may be). Eq. 6's
-  // rho 0.21 lets the 0.30-0.42 wide Quake III hull graze what it passes.
-  bool require_clearance = true;
 };
 
 struct DeadPocketConfig {

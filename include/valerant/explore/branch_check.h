@@ -15,12 +15,6 @@
 // and is marked floor_unknown (inadmissible); rotations need no floor (eq. 6 exempts
 // them and they do not advance for eq. 7).
 //
-// Body clearance ([ours], collision.require_clearance): rho 0.21 is narrower than the
-// Quake III hull (0.30 to 0.42 eye heights from its axis), so a path eq. 6 passes can
-// graze a pillar. A translation along which N_occ points come within prefix_clearance
-// of the axis at one sample is clearance_breached: not committed whole, though its clean
-// prefix may be. Points already that close to the start's axis are not counted.
-//
 // Previous-step points ([ours], collision.previous_step_points): a camera looking
 // forward does not see a wall right beside it, so a step that starts along a wall
 // scrapes it with none of the branch's own points in the body cylinder. The confident

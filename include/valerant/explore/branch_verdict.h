@@ -15,9 +15,6 @@ struct BranchVerdict {
   bool slam_lost = false;
   bool floor_unknown = false;  // a translation judged without any reliable floor
   bool enters_failed = false;
-  // A translation that brings N_occ points within collision.prefix_clearance of the
-  // body axis (collision.require_clearance): not committed whole.
-  bool clearance_breached = false;
   // Leading frames clear by collision.prefix_margin of every fired test, SLAM loss and
   // the prefix_clearance cylinder (clean_prefix.h): all frames when none of them
   // happened, 0 when no prefix advances far enough.
