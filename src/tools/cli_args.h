@@ -1,6 +1,7 @@
 #pragma once
 // Minimal "--key value" / "--flag" parser shared by the command-line tools. Unknown
 // options are errors, so a typo never silently runs with defaults.
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -39,10 +40,15 @@ class CliArgs {
     if (!has(key)) throw InputError(key, "is required");
     return get(key);
   }
-  long integer(const std::string& key, long fallback) const {
+  // A whole number that fits the fallback's type: "--spawn 99999999999" is an error
+  // naming that value, never a spawn narrowed to some other number.
+  template <class Integer>
+  Integer integer(const std::string& key, Integer fallback) const {
     if (!has(key)) return fallback;
-    if (const std::optional<long> v = wholeInteger<long>(get(key))) return *v;
-    throw InputError(key + " " + get(key), "is not an integer");
+    if (const std::optional<Integer> v = wholeInteger<Integer>(get(key))) return *v;
+    throw InputError(key + " " + get(key), "is not an integer from " +
+                                               std::to_string(std::numeric_limits<Integer>::min()) + " to " +
+                                               std::to_string(std::numeric_limits<Integer>::max()));
   }
 
   // A comma-separated value ("uw,jw,lw"); empty items are dropped and an option that

@@ -79,11 +79,11 @@ int main(int argc, char** argv) {
     const Config config = loadConfig(args.get("--config", defaultConfigPath()));
     const std::string out = args.required("--out");
     const std::vector<std::string> configs = args.list("--configs", "full");
-    const auto runs = makeEvalGrid(args.list("--maps", args.required("--maps")), static_cast<int>(args.integer("--spawns", 1)),
+    const auto runs = makeEvalGrid(args.list("--maps", args.required("--maps")), args.integer("--spawns", 1),
                                    configs, out);
-    const int jobs = static_cast<int>(args.integer("--jobs", 2));
+    const int jobs = args.integer("--jobs", 2);
     if (jobs < 1) throw InputError("--jobs", "must be >= 1");
-    const int budget = static_cast<int>(args.integer("--budget", config.policy.budget_steps));
+    const int budget = args.integer("--budget", config.policy.budget_steps);
     const std::string slam = args.get("--slam", config.slam.backend);
     const std::string explore = tools::siblingTool("valerant_explore");
 

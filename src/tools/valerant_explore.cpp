@@ -42,14 +42,14 @@ int main(int argc, char** argv) {
     const std::string config_path = args.get("--config", defaultConfigPath());
     Config config = loadConfig(config_path);
     config.world.map = args.get("--map", config.world.map);
-    config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
-    config.world.seed = static_cast<uint32_t>(args.integer("--seed", config.world.seed));
+    config.world.spawn = args.integer("--spawn", config.world.spawn);
+    config.world.seed = args.integer("--seed", config.world.seed);
     config.slam.backend = args.get("--slam", config.slam.backend);
     config.policy.kind = args.get("--policy", config.policy.kind);
     if (config.policy.kind != "valerant" && config.policy.kind != "random" && config.policy.kind != "forward" &&
         config.policy.kind != "frontier")
       throw InputError("--policy " + config.policy.kind, "unknown (known: valerant, random, forward, frontier)");
-    config.policy.budget_steps = static_cast<int>(args.integer("--budget", config.policy.budget_steps));
+    config.policy.budget_steps = args.integer("--budget", config.policy.budget_steps);
     if (config.policy.budget_steps < 1) throw InputError("--budget", "must be >= 1");
     if (args.has("--no-rf")) config.floor.enabled = false;
     if (args.has("--no-col-pc")) config.collision.pointcloud_enabled = false;

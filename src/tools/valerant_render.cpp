@@ -73,9 +73,9 @@ int main(int argc, char** argv) {
     tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidate", "--config", "--out", "--every"});
     Config config = loadConfig(args.get("--config", defaultConfigPath()));
     config.world.map = args.get("--map", config.world.map);
-    config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
+    config.world.spawn = args.integer("--spawn", config.world.spawn);
     const std::string out = args.required("--out");
-    const int every = static_cast<int>(args.integer("--every", 1));
+    const int every = args.integer("--every", 1);
     if (every < 1) throw InputError("--every", "must be >= 1");
 
     std::vector<std::string> candidates = candidateNames();

@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
     tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--config", "--out"});
     Config config = loadConfig(args.get("--config", defaultConfigPath()));
     config.world.map = args.get("--map", config.world.map);
-    config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
+    config.world.spawn = args.integer("--spawn", config.world.spawn);
     const std::string backend = args.get("--slam", config.slam.backend);
     const std::string out = args.required("--out");
     std::vector<ActionSequence> sequences;  // validated before any rendering

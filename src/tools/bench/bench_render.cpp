@@ -20,7 +20,7 @@ nlohmann::json benchRender(int argc, char** argv) {
   CliArgs args(argc, argv, {"--map", "--frames", "--spawn", "--config"});
   Config config = loadConfig(args.get("--config", defaultConfigPath()));
   config.world.map = args.get("--map", config.world.map);
-  config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
+  config.world.spawn = args.integer("--spawn", config.world.spawn);
   const long frames = args.integer("--frames", 1000);
   if (frames < 1) throw InputError("--frames", "must be >= 1");
 

@@ -38,7 +38,7 @@ nlohmann::json benchSlam(int argc, char** argv) {
   CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--repeats", "--config"});
   Config config = loadConfig(args.get("--config", defaultConfigPath()));
   config.world.map = args.get("--map", config.world.map);
-  config.world.spawn = static_cast<int>(args.integer("--spawn", config.world.spawn));
+  config.world.spawn = args.integer("--spawn", config.world.spawn);
   const std::string backend = args.get("--slam", config.slam.backend);
   const long repeats = args.integer("--repeats", 3);
   if (repeats < 1) throw InputError("--repeats", "must be >= 1");
