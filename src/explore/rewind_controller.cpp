@@ -36,11 +36,7 @@ std::optional<RewindDecision> RewindController::check() {
     d.failed_cells.insert(it->cells.begin(), it->cells.end());
     ++d.discarded_steps;
   }
-  // The anchor's cell and its 8 neighbours stay free: every candidate leaves the anchor
-  // through them, so marking them would close the routes the rewind is for (jw and lw
-  // start along the heading that led into the pocket): aggressor spawn 1.
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy) d.failed_cells.erase({first->start_cell.first + dx, first->start_cell.second + dy});
+  d.failed_cells.erase(first->start_cell);
   return d;
 }
 

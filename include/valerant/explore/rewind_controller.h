@@ -3,8 +3,7 @@
 // declared after `rotation_only_steps` (3) consecutive steps that commit a rotation
 // only or stall. The agent then returns to the checkpoint taken just before its most
 // recent translational commit, the state before it walked into the pocket, and every
-// cell the discarded steps passed through goes into the failed-region memory F, except
-// the anchor's cell and its 8 neighbours, through which every route from it starts.
+// cell the discarded steps passed through goes into the failed-region memory F.
 //
 // Rewind anchors: the checkpoints taken before translational commits; the
 // `checkpoints_kept` (3) most recent are retained, older ones released. A checkpoint
@@ -25,7 +24,7 @@ namespace valerant {
 struct RewindDecision {
   uint64_t checkpoint = 0;           // where to go back to
   int discarded_steps = 0;           // committed steps undone
-  std::set<Cell> failed_cells;       // cells to add to F (the anchor's cell and its 8 neighbours excluded)
+  std::set<Cell> failed_cells;       // cells to add to F (the anchor's own cell excluded)
 };
 
 class RewindController {
