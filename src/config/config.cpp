@@ -164,7 +164,7 @@ void readFloor(Section s, FloorConfig& f) {
 void readCollision(Section s, CollisionConfig& c) {
   s.boolean("pointcloud_enabled", c.pointcloud_enabled);
   s.boolean("depth_enabled", c.depth_enabled);
-  s.boolean("previous_step_points", c.previous_step_points);
+  s.number("previous_steps", c.previous_steps, 0, 100000);
   s.number("body_radius", c.body_radius, 0.0, 10.0);
   s.number("height_low", c.height_low, -10.0, 10.0);
   s.number("height_high", c.height_high, -10.0, 10.0);

@@ -7,9 +7,9 @@
 
 namespace valerant {
 
-BranchCheck::BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> previous_step)
+BranchCheck::BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> committed)
     : config_(config.collision),
-      previous_step_(config.collision.previous_step_points ? std::move(previous_step) : nullptr),
+      committed_(config.collision.previous_steps > 0 ? std::move(committed) : nullptr),
       d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units) {}
 
 void BranchCheck::add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor) {
@@ -63,9 +63,9 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
         points.push_back({p.position.cast<double>(), floors[kf.frame].normalisedHeight(p.position.cast<double>()),
                           p.confidence});
     const FloorPlane& start = floors.front();
-    if (previous_step_ && start.cameraHeight() > 0) {
+    if (committed_ && start.cameraHeight() > 0) {
       const double radius = config_.body_radius * start.cameraHeight();
-      for (const auto& p : *previous_step_) {
+      for (const auto& p : *committed_) {
         const Eigen::Vector3d x = p.position.cast<double>();
         if (start.axisDistanceSquared(x) <= radius * radius) continue;  // beside the body already
         points.push_back({x, start.normalisedHeight(x), p.confidence});
@@ -105,15 +105,6 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     v.prefix_frames = cleanPrefixFrames(floors, first_unsafe, reference, config_.prefix_margin,
                                         config_.prefix_min_advance);
   return v;
-}
-
-std::shared_ptr<const std::vector<CloudPoint>> previousStepPoints(const std::vector<KeyframeCloud>& keyframes,
-                                                                  const Config& config) {
-  auto points = std::make_shared<std::vector<CloudPoint>>();
-  for (const KeyframeCloud& kf : keyframes)
-    for (const CloudPoint& p : kf.points)
-      if (p.confidence >= config.collision.min_confidence) points->push_back(p);
-  return points;
 }
 
 }  // namespace valerant

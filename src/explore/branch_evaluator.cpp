@@ -24,10 +24,10 @@ class Stopwatch {
 }  // namespace
 
 BranchResult evaluateBranch(Rollout rollout, bool rotation_only, std::unique_ptr<Slam> slam, FloorEstimator floor,
-                            std::shared_ptr<const std::vector<CloudPoint>> previous_step, const Config& config) {
+                            std::shared_ptr<const std::vector<CloudPoint>> committed, const Config& config) {
   BranchResult out;
   out.rollout = std::move(rollout);
-  BranchCheck check(config, std::move(previous_step));
+  BranchCheck check(config, std::move(committed));
   Stopwatch watch;
   std::vector<size_t> keyframe_frames;
   for (size_t i = 0; i < out.rollout.frames.size(); ++i) {

@@ -10,7 +10,8 @@ namespace valerant {
 LocalBranchPipeline::LocalBranchPipeline(std::unique_ptr<Slam> slam, const Config& config)
     : config_(config),
       slam_(std::move(slam)),
-      floor_(config.floor, Eigen::Vector3d::UnitZ(), config.collision.min_confidence, config.world.seed) {}
+      floor_(config.floor, Eigen::Vector3d::UnitZ(), config.collision.min_confidence, config.world.seed),
+      committed_(config.collision) {}
 
 BranchResult LocalBranchPipeline::start(const Rollout& context) {
   BranchResult out;
@@ -29,18 +30,18 @@ BranchResult LocalBranchPipeline::start(const Rollout& context) {
   return out;
 }
 
-void LocalBranchPipeline::checkpoint(CheckpointId id) { saved_.save(id, Saved{slam_->snapshot(), floor_, previous_step_}); }
+void LocalBranchPipeline::checkpoint(CheckpointId id) { saved_.save(id, Saved{slam_->snapshot(), floor_, committed_}); }
 
 void LocalBranchPipeline::restore(CheckpointId id) {
   const Saved& s = saved_.at(id);
   slam_->restore(s.slam);
   floor_ = s.floor;
-  previous_step_ = s.previous_step;
+  committed_ = s.committed;
 }
 
 std::future<BranchResult> LocalBranchPipeline::evaluate(Rollout rollout, bool rotation_only) {
   return std::async(std::launch::async, evaluateBranch, std::move(rollout), rotation_only, slam_->branch(), floor_,
-                    previous_step_, std::cref(config_));
+                    committed_.points(), std::cref(config_));
 }
 
 void LocalBranchPipeline::commit(const BranchResult& chosen) {
@@ -49,7 +50,7 @@ void LocalBranchPipeline::commit(const BranchResult& chosen) {
     throw InputError("rollout " + std::to_string(chosen.rollout.id), "is no branch of this pipeline (or committed twice)");
   slam_ = std::move(branch->slam);
   floor_ = branch->floor;
-  previous_step_ = previousStepPoints(chosen.keyframes, config_);
+  committed_.add(chosen.keyframes);
 }
 
 }  // namespace valerant

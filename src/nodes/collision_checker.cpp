@@ -1,10 +1,10 @@
 // collision_checker (nodelet valerant/CollisionChecker): judges every branch (paper eqs. 6 and 7) with BranchCheck.
 //   sub branch/<c>/floor (valerant/FloorSample) -> pub branch/<c>/result
 //   (valerant/BranchResult) once the rollout's last frame is in, or at its first error.
-//   srv ~reset  a new episode: no previous step
-//       ~checkpoint ~restore ~drop  the last committed step's points (BranchCheck's
-//       previous-step points), under the world's checkpoint ids
-//       ~commit  the committed candidate's keyframe points become the previous step's
+//   srv ~reset  a new episode: no committed step
+//       ~checkpoint ~restore ~drop  the latest committed steps' points (CommittedPoints,
+//       counted by BranchCheck), under the world's checkpoint ids
+//       ~commit  the committed candidate's keyframe points join them
 #include <optional>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
@@ -19,6 +19,7 @@
 #include "valerant/common/error.h"
 #include "valerant/explore/branch_check.h"
 #include "valerant/explore/checkpoint_store.h"
+#include "valerant/explore/committed_points.h"
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/graph_names.h"
@@ -76,7 +77,7 @@ class CollisionChecker {
       return;
     }
     if (t.key.index == 0) {
-      b.check.emplace(config_, previous_step_);
+      b.check.emplace(config_, committed_.points());
       b.result = {};
       b.keyframe_at.clear();
       b.result.key = t.key;
@@ -125,7 +126,7 @@ class CollisionChecker {
 
   bool reset(valerant::Reset::Request&, valerant::Reset::Response& res) {
     return guarded("collision_checker/reset", res, [&] {
-      previous_step_.reset();
+      committed_ = CommittedPoints(config_.collision);
       saved_.clear();
       branches_.clear();
     });
@@ -133,13 +134,13 @@ class CollisionChecker {
 
   bool checkpoint(valerant::Checkpoint::Request& req, valerant::Checkpoint::Response& res) {
     return guarded("collision_checker/checkpoint", res, [&] {
-      saved_.save(req.checkpoint_id, previous_step_);
+      saved_.save(req.checkpoint_id, committed_);
       res.checkpoint_id = req.checkpoint_id;
     });
   }
 
   bool restore(valerant::Restore::Request& req, valerant::Restore::Response& res) {
-    return guarded("collision_checker/restore", res, [&] { previous_step_ = saved_.at(req.checkpoint_id); });
+    return guarded("collision_checker/restore", res, [&] { committed_ = saved_.at(req.checkpoint_id); });
   }
 
   bool drop(valerant::Drop::Request& req, valerant::Drop::Response& res) {
@@ -156,13 +157,13 @@ class CollisionChecker {
       std::vector<KeyframeCloud> keyframes;
       for (const auto& cloud : it->second.result.keyframes)
         keyframes.push_back({0, 0, Eigen::Isometry3d::Identity(), valerant::bridge::fromCloudMsg(cloud)});
-      previous_step_ = previousStepPoints(keyframes, config_);
+      committed_.add(keyframes);
     });
   }
 
   Config config_;
-  std::shared_ptr<const std::vector<CloudPoint>> previous_step_;  // the last commit's points
-  CheckpointStore<std::shared_ptr<const std::vector<CloudPoint>>> saved_;
+  CommittedPoints committed_{config_.collision};  // counted by every branch's BranchCheck
+  CheckpointStore<CommittedPoints> saved_;
   std::map<std::string, Branch> branches_;
   std::map<std::string, ::ros::Publisher> results_;
   std::vector<::ros::Subscriber> samples_;

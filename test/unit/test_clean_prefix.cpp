@@ -60,7 +60,7 @@ TEST(CleanPrefix, MarginIsHorizontal) {
   EXPECT_EQ(cleanPrefixFrames(frames, 12, 12, 1, 1), 9);
 }
 
-// The wiring in BranchCheck, on the walk of test_previous_step_points.cpp: kappa 0.5,
+// The wiring in BranchCheck, on the walk of test_committed_points.cpp: kappa 0.5,
 // camera at z = 0, 0.1 .. 0.9, a wall at x = 0.08 from z = 0.3 on, known only from the
 // previous step. The sample at z = 0.3 holds 28 points, z = 0.4 and z = 0.5 hold 52, so
 // the run that fires starts at frame 4 (z = 0.4). Margin 0.5 (0.25 units): the last
@@ -76,7 +76,7 @@ std::shared_ptr<const std::vector<CloudPoint>> wallFromZ03() {
   return wall;
 }
 
-// The walk of test_previous_step_points.cpp (z = 0 .. 0.9, kappa 0.5) beside `wall`,
+// The walk of test_committed_points.cpp (z = 0 .. 0.9, kappa 0.5) beside `wall`,
 // the SLAM lost from frame `lost_from` on.
 BranchVerdict walkBeside(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> wall,
                          bool rotation_only, int lost_from = 10) {

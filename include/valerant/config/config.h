@@ -71,10 +71,10 @@ struct FloorConfig {
 struct CollisionConfig {
   bool pointcloud_enabled = true;
   bool depth_enabled = true;
-  // Also count the confident points of the last committed step: a wall beside the
-  // start of a step is outside a forward camera's view, so the branch's own points
-  // never show it.
-  bool previous_step_points = true;
+  // Also count the confident points of the latest previous_steps committed steps
+  // (committed_points.h): a wall beside the path is outside a forward camera's view,
+  // so the branch's own points rarely show it. 0: only the branch's own points.
+  int previous_steps = 15;
   double body_radius = 0.21;   // rho
   double height_low = 0.18;    // eta_low
   double height_high = 1.19;   // eta_high

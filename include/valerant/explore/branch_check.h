@@ -15,13 +15,10 @@
 // and is marked floor_unknown (inadmissible); rotations need no floor (eq. 6 exempts
 // them and they do not advance for eq. 7).
 //
-// Previous-step points ([ours], collision.previous_step_points): a camera looking
-// forward does not see a wall right beside it, so a step that starts along a wall
-// scrapes it with none of the branch's own points in the body cylinder. The confident
-// points of the last committed step (the same SLAM scale as the branch) are counted
-// too, with heights from the branch's first floor; points already inside the body
-// cylinder at the start are left out, so standing beside a wall does not block
-// every move. Only the last step's points: older ones may predate a SLAM re-scale.
+// Committed points ([ours], collision.previous_steps, committed_points.h): the
+// confident points of the latest committed steps are counted too, with heights from
+// the branch's first floor; points already inside the body cylinder at the start are
+// left out, so standing beside a wall does not block every move.
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,8 +33,8 @@ namespace valerant {
 
 class BranchCheck {
  public:
-  // `previous_step`: the last committed step's points (null or empty: none).
-  BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> previous_step);
+  // `committed`: CommittedPoints::points() (null or empty: none).
+  BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> committed);
   // `keyframe`: the keyframe cloud this frame made (null if none); `floor`: its floor.
   void add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor);
   size_t frames() const { return samples_.size(); }
@@ -54,7 +51,7 @@ class BranchCheck {
     std::vector<CloudPoint> points;
   };
   CollisionConfig config_;
-  std::shared_ptr<const std::vector<CloudPoint>> previous_step_;
+  std::shared_ptr<const std::vector<CloudPoint>> committed_;
   double d_fwd_normalised_;
   std::vector<FloorPlane> samples_;
   std::vector<Eigen::Isometry3d> poses_;
@@ -62,10 +59,5 @@ class BranchCheck {
   std::vector<KeyframePoints> keyframes_;
   int first_lost_ = -1;  // first frame the SLAM lost track, -1 = never
 };
-
-// The points of a committed step that the next step's check counts: every keyframe
-// point with confidence >= collision.min_confidence (the eq. 6 cut).
-std::shared_ptr<const std::vector<CloudPoint>> previousStepPoints(const std::vector<KeyframeCloud>& keyframes,
-                                                                  const Config& config);
 
 }  // namespace valerant

@@ -22,8 +22,8 @@ struct LocalBranch : BranchHandle {
 };
 
 // `slam` and `floor` are the branch's own copies of the committed state;
-// `previous_step` the last committed step's points (BranchCheck).
+// `committed` the latest committed steps' points (CommittedPoints).
 BranchResult evaluateBranch(Rollout rollout, bool rotation_only, std::unique_ptr<Slam> slam, FloorEstimator floor,
-                            std::shared_ptr<const std::vector<CloudPoint>> previous_step, const Config& config);
+                            std::shared_ptr<const std::vector<CloudPoint>> committed, const Config& config);
 
 }  // namespace valerant

@@ -8,6 +8,7 @@
 #include "valerant/config/config.h"
 #include "valerant/explore/branch_pipeline.h"
 #include "valerant/explore/checkpoint_store.h"
+#include "valerant/explore/committed_points.h"
 #include "valerant/explore/floor_estimator.h"
 #include "valerant/slam/slam.h"
 
@@ -30,12 +31,12 @@ class LocalBranchPipeline : public BranchPipeline {
   struct Saved {
     std::shared_ptr<const SlamState> slam;
     FloorEstimator floor;
-    std::shared_ptr<const std::vector<CloudPoint>> previous_step;
+    CommittedPoints committed;
   };
   Config config_;
   std::unique_ptr<Slam> slam_;
   FloorEstimator floor_;
-  std::shared_ptr<const std::vector<CloudPoint>> previous_step_;  // the last commit's points (BranchCheck)
+  CommittedPoints committed_;  // counted by every branch's BranchCheck
   CheckpointStore<Saved> saved_;
 };
 
