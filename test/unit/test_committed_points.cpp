@@ -1,8 +1,9 @@
 // CommittedPoints and BranchCheck's use of them: a wall beside the path that the
-// branch's own camera never saw, mapped by an earlier committed step. Map frame = the first camera's optical frame (y down); the floor is
-// y = 0.5, so kappa = 0.5 and the body radius rho = 0.21 is 0.105 map units. The camera
-// walks z = 0 .. 0.9 in steps of 0.1. The wall: x = 0.08 (inside the body radius),
-// y = 0.05 .. 0.35 in 4 rows (normalised heights 0.3 .. 0.9, inside [0.18, 1.19]).
+// branch's own camera never saw, mapped by an earlier committed step. Map frame = the
+// first camera's optical frame (y down); the floor is y = 0.5, so kappa = 0.5 and the
+// body radius rho = 0.21 is 0.105 map units. The camera walks z = 0 .. 0.9 in steps of
+// 0.1. The wall: x = 0.08 (inside the body radius), y = 0.05 .. 0.35 in 4 rows
+// (normalised heights 0.3 .. 0.9, inside [0.18, 1.19]).
 #include <gtest/gtest.h>
 
 #include "valerant/explore/branch_check.h"
@@ -15,7 +16,6 @@ using valerant::test::trackedAtZ;
 namespace {
 
 constexpr double kFloorY = 0.5;
-
 
 // Wall points at x = 0.08 for z in [z0, z1] every 0.01, 4 rows, confidence 10.
 KeyframeCloud wallCloud(double z0, double z1) {
