@@ -187,6 +187,7 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.number("rotation_only_steps", d.rotation_only_steps, 1, 1000);
   s.number("checkpoints_kept", d.checkpoints_kept, 1, 1000);
   s.number("max_rewinds", d.max_rewinds, 0, 1000);
+  s.number("anchor_free_cells", d.anchor_free_cells, 0, 64);
   s.finish();
 }
 

@@ -36,7 +36,11 @@ std::optional<RewindDecision> RewindController::check() {
     d.failed_cells.insert(it->cells.begin(), it->cells.end());
     ++d.discarded_steps;
   }
-  d.failed_cells.erase(first->start_cell);
+  // The cells around the anchor stay free: every candidate leaves the anchor through
+  // them, so marking them would close the routes the rewind is for.
+  const int r = config_.anchor_free_cells;
+  for (int dx = -r; dx <= r; ++dx)
+    for (int dy = -r; dy <= r; ++dy) d.failed_cells.erase({first->start_cell.first + dx, first->start_cell.second + dy});
   return d;
 }
 

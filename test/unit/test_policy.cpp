@@ -107,6 +107,7 @@ TEST(FailedRegionMemory, EnteringIsLeavingTheStartCellIntoF) {
 
 TEST(RewindController, DeadEndRewindsBeforeThePocketAndMarksIt) {
   DeadPocketConfig config;
+  config.anchor_free_cells = 0;  // the paper: only the anchor's own cell stays free
   RewindController r(config);
   // Step 1 (checkpoint 1): forward (64,64) -> (72,64). Step 2 (checkpoint 2): forward
   // into the dead end, (72,64) -> (75,64). Then three rotations at (75,64).
@@ -126,6 +127,18 @@ TEST(RewindController, DeadEndRewindsBeforeThePocketAndMarksIt) {
   EXPECT_EQ(released, (std::vector<uint64_t>{2, 3, 4, 5}));
   EXPECT_EQ(r.rewinds(), 1);
   EXPECT_EQ(r.retained(), (std::vector<uint64_t>{1}));
+}
+
+TEST(RewindController, AnchorNeighbourhoodStaysOutOfF) {
+  // The same dead end with the default radius 1: (73,64) borders the anchor cell (72,64)
+  // and stays free, the pocket's cells (74,64) and (75,64) are marked.
+  RewindController r(DeadPocketConfig{});
+  r.recordStep(1, {64, 64}, true, false, {{64, 64}, {68, 64}, {72, 64}});
+  r.recordStep(2, {72, 64}, true, false, {{72, 64}, {73, 64}, {74, 64}, {75, 64}});
+  for (uint64_t c = 3; c <= 5; ++c) r.recordStep(c, {75, 64}, true, true, {{75, 64}});
+  const auto d = r.check();
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->failed_cells, (std::set<Cell>{{74, 64}, {75, 64}}));
 }
 
 TEST(RewindController, AtMostTwoRewindsAndOnlyThreeAnchorsKept) {

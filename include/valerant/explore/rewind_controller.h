@@ -3,7 +3,9 @@
 // declared after `rotation_only_steps` (3) consecutive steps that commit a rotation
 // only or stall. The agent then returns to the checkpoint taken just before its most
 // recent translational commit, the state before it walked into the pocket, and every
-// cell the discarded steps passed through goes into the failed-region memory F.
+// cell the discarded steps passed through goes into the failed-region memory F, except
+// the cells within `anchor_free_cells` ([ours], Chebyshev radius) of the anchor's cell:
+// every route out of the anchor starts through them (0: only the anchor's own cell).
 //
 // Rewind anchors: the checkpoints taken before translational commits; the
 // `checkpoints_kept` (3) most recent are retained, older ones released. A checkpoint
@@ -24,7 +26,7 @@ namespace valerant {
 struct RewindDecision {
   uint64_t checkpoint = 0;           // where to go back to
   int discarded_steps = 0;           // committed steps undone
-  std::set<Cell> failed_cells;       // cells to add to F (the anchor's own cell excluded)
+  std::set<Cell> failed_cells;       // cells to add to F (the anchor's neighbourhood excluded)
 };
 
 class RewindController {
