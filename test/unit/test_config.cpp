@@ -48,7 +48,7 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_EQ(c.dead_pocket.rotation_only_steps, 3);
   EXPECT_EQ(c.dead_pocket.checkpoints_kept, 3);
   EXPECT_EQ(c.dead_pocket.max_rewinds, 2);
-  EXPECT_EQ(c.dead_pocket.anchor_free_cells, 1);
+  EXPECT_EQ(c.dead_pocket.anchor_free_cells, 0);
   EXPECT_EQ(c.world.width, 320);
   EXPECT_EQ(c.world.height, 240);
   EXPECT_DOUBLE_EQ(c.world.d_fwd_units, 256);

@@ -106,8 +106,7 @@ TEST(FailedRegionMemory, EnteringIsLeavingTheStartCellIntoF) {
 }
 
 TEST(RewindController, DeadEndRewindsBeforeThePocketAndMarksIt) {
-  DeadPocketConfig config;
-  config.anchor_free_cells = 0;  // the paper: only the anchor's own cell stays free
+  DeadPocketConfig config;  // the paper: only the anchor's own cell stays free
   RewindController r(config);
   // Step 1 (checkpoint 1): forward (64,64) -> (72,64). Step 2 (checkpoint 2): forward
   // into the dead end, (72,64) -> (75,64). Then three rotations at (75,64).
@@ -130,9 +129,11 @@ TEST(RewindController, DeadEndRewindsBeforeThePocketAndMarksIt) {
 }
 
 TEST(RewindController, AnchorNeighbourhoodStaysOutOfF) {
-  // The same dead end with the default radius 1: (73,64) borders the anchor cell (72,64)
-  // and stays free, the pocket's cells (74,64) and (75,64) are marked.
-  RewindController r(DeadPocketConfig{});
+  // The same dead end with radius 1: (73,64) borders the anchor cell (72,64) and stays
+  // free, the pocket's cells (74,64) and (75,64) are marked.
+  DeadPocketConfig config;
+  config.anchor_free_cells = 1;
+  RewindController r(config);
   r.recordStep(1, {64, 64}, true, false, {{64, 64}, {68, 64}, {72, 64}});
   r.recordStep(2, {72, 64}, true, false, {{72, 64}, {73, 64}, {74, 64}, {75, 64}});
   for (uint64_t c = 3; c <= 5; ++c) r.recordStep(c, {75, 64}, true, true, {{75, 64}});

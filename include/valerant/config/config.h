@@ -101,7 +101,7 @@ struct DeadPocketConfig {
   int rotation_only_steps = 3;
   int checkpoints_kept = 3;
   int max_rewinds = 2;
-  int anchor_free_cells = 1;  // [ours] cells within this Chebyshev radius of the anchor stay out of F
+  int anchor_free_cells = 0;  // [ours] cells within this Chebyshev radius of the anchor stay out of F
 };
 
 struct MapConfig {

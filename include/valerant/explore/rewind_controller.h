@@ -4,8 +4,8 @@
 // only or stall. The agent then returns to the checkpoint taken just before its most
 // recent translational commit, the state before it walked into the pocket, and every
 // cell the discarded steps passed through goes into the failed-region memory F, except
-// the cells within `anchor_free_cells` ([ours], Chebyshev radius) of the anchor's cell:
-// every route out of the anchor starts through them (0: only the anchor's own cell).
+// the anchor's own cell and, with `anchor_free_cells` ([ours], a Chebyshev radius, default
+// 0 as the paper) above 0, its neighbours: every route out of the anchor starts there.
 //
 // Rewind anchors: the checkpoints taken before translational commits; the
 // `checkpoints_kept` (3) most recent are retained, older ones released. A checkpoint
