@@ -1,10 +1,12 @@
 #include "valerant/eval/eval_report.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <sstream>
 
 #include "valerant/common/error.h"
@@ -98,12 +100,46 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
   return out;
 }
 
+namespace {
+
+const char* const kResultsCsvHeader =
+    "map,spawn,config,ok,committed_steps,rewinds,observed_reachable_percent,observed_reachable_m2,"
+    "penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,accuracy_median_m,"
+    "accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,error";
+
+// "map,spawn,config" of a results.csv row: what identifies its run.
+std::string runKey(const std::string& row) {
+  size_t third_comma = row.find(',');
+  for (int i = 0; i < 2 && third_comma != std::string::npos; ++i) third_comma = row.find(',', third_comma + 1);
+  return row.substr(0, third_comma);
+}
+
+// The rows of an existing results.csv whose runs are not in `results`. A file of another
+// format is moved aside to PATH.previous instead of being merged or overwritten.
+std::vector<std::string> rowsOfOtherRuns(const std::string& path, const std::vector<EvalResult>& results) {
+  std::ifstream in(path);
+  std::string header;
+  if (!in || !std::getline(in, header)) return {};
+  if (header != kResultsCsvHeader) {
+    in.close();
+    std::filesystem::rename(path, path + ".previous");
+    return {};
+  }
+  std::set<std::string> current;
+  for (const auto& r : results) current.insert(r.run.map + ',' + std::to_string(r.run.spawn) + ',' + r.run.config);
+  std::vector<std::string> kept;
+  for (std::string row; std::getline(in, row);)
+    if (!row.empty() && !current.count(runKey(row))) kept.push_back(row);
+  return kept;
+}
+
+}  // namespace
+
 void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& results) {
+  const std::vector<std::string> others = rowsOfOtherRuns(path, results);
   std::ofstream out(path);
   if (!out) throw InputError(path, "cannot write results");
-  out << "map,spawn,config,ok,committed_steps,rewinds,observed_reachable_percent,observed_reachable_m2,"
-         "penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,accuracy_median_m,"
-         "accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,error\n";
+  out << kResultsCsvHeader << "\n";
   for (const auto& r : results) {
     const auto& j = r.report;
     const nlohmann::json g = r.ok ? j["ground_truth"] : nlohmann::json::object();
@@ -115,6 +151,8 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
         << ',' << number(g, "accuracy_p90_m") << ',' << number(g, "completeness_percent") << ','
         << number(j, "wall_seconds") << ',' << number(j, "frames_rendered") << ",\"" << r.error << "\"\n";
   }
+  for (const auto& row : others) out << row << "\n";
+  if (!out) throw InputError(path, "cannot write results");
 }
 
 std::string markdownReport(const std::vector<ConfigSummary>& summaries, const std::vector<EvalResult>& results,

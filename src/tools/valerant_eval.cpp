@@ -7,8 +7,9 @@
 //                 [--publish docs/evaluation.md]  (also write the report there, its images in
 //                                                   docs/evaluation/, for committing)
 //
-// Resumable: a run whose report.json exists is not redone. Writes DIR/results.csv,
-// DIR/evaluation.md and plots, shows progress (runs done / total, ETA) on stderr and
+// Resumable: a run whose report.json exists is not redone. Writes DIR/results.csv (this
+// grid's rows; rows an earlier command wrote for other runs stay), DIR/evaluation.md and
+// plots of this grid, shows progress (runs done / total, ETA) on stderr and
 // prints one JSON summary line.
 #include <sys/wait.h>
 #include <unistd.h>

@@ -1,6 +1,9 @@
 // The evaluation grid: runs, their explore options, and the per-configuration means.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+
 #include "valerant/common/error.h"
 #include "valerant/eval/eval_report.h"
 
@@ -104,4 +107,40 @@ TEST(EvalReport, VerdictQualityStagesAndFindings) {
   const std::string md = markdownReport(s, results, "cmd", "img/");
   EXPECT_NE(md.find("| 0.83 | 0.67 |"), std::string::npos);
   EXPECT_NE(md.find("(img/topdowns_full.png)"), std::string::npos);
+}
+
+TEST(EvalReport, ResultsCsvKeepsTheRowsOfOtherRuns) {
+  const std::string path = ::testing::TempDir() + "/valerant_results.csv";
+  std::remove(path.c_str());
+  std::remove((path + ".previous").c_str());
+  auto result = [](const std::string& map, int spawn, double observed) {
+    EvalResult r;
+    r.run = {map, spawn, "full", "/o"};
+    r.ok = true;
+    r.report = {{"ground_truth", {{"observed_reachable_percent", observed}}}};
+    return r;
+  };
+  auto rows = [&] {
+    std::ifstream in(path);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+  };
+  // The whole grid, then a report of one of its runs (re-run: 7 %) and one new run.
+  writeResultsCsv(path, {result("a", 0, 5), result("a", 1, 6), result("b", 0, 9)});
+  writeResultsCsv(path, {result("a", 1, 7), result("c", 0, 1)});
+  const auto lines = rows();
+  ASSERT_EQ(lines.size(), 5u);  // header, the 2 reported rows, the 2 other runs' rows
+  EXPECT_EQ(lines[1].substr(0, 19), "a,1,full,1,0,0,7,0,");
+  EXPECT_EQ(lines[2].substr(0, 9), "c,0,full,");
+  EXPECT_EQ(lines[3].substr(0, 19), "a,0,full,1,0,0,5,0,");
+  EXPECT_EQ(lines[4].substr(0, 9), "b,0,full,");
+  // A file of another format is kept beside, not merged.
+  { std::ofstream(path) << "old,format\n1,2\n"; }
+  writeResultsCsv(path, {result("a", 0, 5)});
+  EXPECT_EQ(rows().size(), 2u);
+  std::ifstream previous(path + ".previous");
+  std::string header;
+  std::getline(previous, header);
+  EXPECT_EQ(header, "old,format");
 }

@@ -35,6 +35,8 @@ struct ConfigSummary {
 };
 
 std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, const std::vector<std::string>& configs);
+// One row per result, then the rows of an existing file at `path` for runs not among
+// `results` (a report of a subset of a grid does not drop the rest of the grid's rows).
 void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& results);
 std::string markdownReport(const std::vector<ConfigSummary>& summaries, const std::vector<EvalResult>& results,
                            const std::string& command, const std::string& plots_prefix);
