@@ -84,6 +84,12 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   cv::cvtColor(topdown, topdown, cv::COLOR_RGB2BGR);
   if (!cv::imwrite(out + "/topdown.png", topdown)) throw InputError(out + "/topdown.png", "cannot write image");
   files.insert(files.end(), {"trajectory.txt", "gt_trajectory.txt", "topdown.png", "decisions.jsonl", "report.json"});
+  // The player's view at the end, for viewers of the run (run_publisher's camera image).
+  if (cv::Mat view = episode.currentView(); !view.empty()) {
+    cv::cvtColor(view, view, cv::COLOR_RGB2BGR);
+    if (!cv::imwrite(out + "/view.png", view)) throw InputError(out + "/view.png", "cannot write image");
+    files.push_back("view.png");
+  }
 
   StageSeconds total;
   double wall = 0;

@@ -76,6 +76,11 @@ size_t Episode::fuseKnown(const BranchResult& result) {
   return fused;
 }
 
+cv::Mat Episode::currentView() const {
+  const Rollout context = world_.context();
+  return context.frames.empty() ? cv::Mat() : context.frames.back();
+}
+
 bool Episode::finished() const {
   return stuck_ || committed_steps_ >= config_.policy.budget_steps ||
          steps_ >= config_.policy.step_cap_factor * config_.policy.budget_steps;

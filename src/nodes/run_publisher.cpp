@@ -4,17 +4,25 @@
 //                    config.yaml, report.json, trajectory from trajectory.txt)
 //   pub   map_update (valerant/MapUpdate, latched): the explorer's own message, so the
 //                    map_fusion node renders the saved map exactly as it rendered it live
+//   pub   camera/image (sensor_msgs/Image, latched): the run's view.png, the
+//                    player's last committed view, where the world model server puts
+//                    the live one (a run without view.png publishes none)
 //   tf    level -> map (static): the run's floor frame, origin at the start camera's
 //                    foot, z up the anchor floor normal, x along the start heading; rviz
 //                    views any SLAM frame (the visual SLAM's is arbitrary) from above in it
 // A missing or truncated run directory is a fatal error that names the file.
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Image.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <valerant/MapUpdate.h>
 
 #include <Eigen/Geometry>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
+#include "valerant/common/error.h"
 #include "valerant/map/run_map.h"
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_config.h"
@@ -71,6 +79,17 @@ int main(int argc, char** argv) {
     const RunMap run = loadRunMap(run_dir);
     ::ros::Publisher updates = nh.advertise<valerant::MapUpdate>("map_update", 1, true);
     updates.publish(mapUpdateOf(run));
+    ::ros::Publisher view = nh.advertise<sensor_msgs::Image>("camera/image", 1, true);
+    const std::string view_path = run_dir + "/view.png";
+    if (std::filesystem::exists(view_path)) {
+      cv::Mat rgb = cv::imread(view_path, cv::IMREAD_COLOR);
+      if (rgb.empty()) throw InputError(view_path, "unreadable image");
+      cv::cvtColor(rgb, rgb, cv::COLOR_BGR2RGB);
+      sensor_msgs::Image image = valerant::bridge::toImageMsg(rgb);
+      image.header.stamp = ::ros::Time::now();
+      image.header.frame_id = "camera";
+      view.publish(image);
+    }
     tf2_ros::StaticTransformBroadcaster level;
     level.sendTransform(levelToMap(run.frame));
     ROS_INFO_STREAM("run_publisher: " << run_dir << ": " << run.map.keyframes().size() << " keyframes, "

@@ -43,12 +43,19 @@ WorldModelClient::WorldModelClient(::ros::NodeHandle nh, double connect_timeout_
 Rollout WorldModelClient::context() const {
   valerant::GetRollout srv;
   srv.request.rollout_id = 0;
-  srv.request.with_images = false;
+  srv.request.with_images = true;  // called once at the start and once at the end of an episode
   get_rollout_.call(srv);
   Rollout r;
   r.candidate = "context";
-  for (const auto& f : srv.response.frames)
-    for (const auto& t : f.truth) r.truth.push_back(fromMsg(t));
+  for (const auto& f : srv.response.frames) {
+    if (!f.rgb.data.empty()) r.frames.push_back(valerant::bridge::fromImageMsg(f.rgb));
+    for (const auto& t : f.truth) {
+      r.truth.push_back(fromMsg(t));
+      // The graph's rollouts carry no truth depth (README: completeness is null there);
+      // the context's alone would make a figure of the first frames only.
+      r.truth.back().depth_m = cv::Mat();
+    }
+  }
   return r;
 }
 

@@ -26,12 +26,15 @@ class EpisodeTest(unittest.TestCase):
         self.assertEqual(result.committed_steps, BUDGET)
         self.assertGreater(result.map_points, 0)
         self.assertEqual(len(feedback), result.steps)
-        for name in ("map.ply", "map.pcd", "map.bt", "grid.pgm", "topdown.png", "report.json"):
+        for name in ("map.ply", "map.pcd", "map.bt", "grid.pgm", "topdown.png", "view.png", "report.json"):
             self.assertTrue(os.path.isfile(os.path.join(out, "graph", name)), name)
         graph = graph_helpers.decisions(os.path.join(out, "graph", "decisions.jsonl"))
         in_process = graph_helpers.run_valerant_explore(BUDGET, os.path.join(out, "in_process"))
         self.assertEqual([d["chosen"] for d in graph], [d["chosen"] for d in in_process])
         self.assertEqual(graph, in_process)
+        # Same decisions, so the same final view, pixel for pixel (PNG bytes).
+        views = [open(os.path.join(out, d, "view.png"), "rb").read() for d in ("graph", "in_process")]
+        self.assertEqual(views[0], views[1])
 
 
 if __name__ == "__main__":

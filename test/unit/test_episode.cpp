@@ -43,8 +43,14 @@ TEST(Episode, SameSeedSameDecisionsAndConsistentBookkeeping) {
   auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
   quake3::Quake3World world(map, config);
   Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  const cv::Mat spawn_view = episode.currentView().clone();
   episode.runUntilDone(nullptr);
   EXPECT_EQ(episode.committedSteps(), 3);
+  // The view is the moved player's: same format as the spawn screenshot, other pixels.
+  const cv::Mat view = episode.currentView();
+  ASSERT_EQ(view.size(), cv::Size(96, 72));
+  ASSERT_EQ(view.type(), spawn_view.type());
+  EXPECT_GT(cv::norm(view, spawn_view, cv::NORM_L1), 0.0);
   EXPECT_TRUE(episode.finished());
   // One pose per committed frame: the context frame plus every committed rollout frame.
   size_t frames = 1;
@@ -69,16 +75,22 @@ TEST(Episode, RewindRestoresTheAnchorAndMarksFailedCells) {
   quake3::Quake3World world(map, config);
   Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
   size_t before_translation = 0;
+  cv::Mat view_before_translation;
   bool rewound = false;
   while (!episode.finished() && !rewound) {
     const size_t frames_before = episode.trajectory().size();
+    const cv::Mat view_before = episode.currentView().clone();
     const StepRecord r = episode.step();
-    if (r.chosen >= 0 && !r.candidates[r.chosen].verdict.rotation_only) before_translation = frames_before;
+    if (r.chosen >= 0 && !r.candidates[r.chosen].verdict.rotation_only) {
+      before_translation = frames_before;
+      view_before_translation = view_before;
+    }
     if (r.rewind) {
       rewound = true;
       EXPECT_EQ(episode.trajectory().size(), before_translation);  // back before the last translation
       EXPECT_FALSE(episode.failed().cells().empty());
       EXPECT_EQ(episode.rewinds(), 1);
+      EXPECT_EQ(cv::norm(episode.currentView(), view_before_translation, cv::NORM_L1), 0.0);  // the view too
       // World and SLAM agree again: the world's camera is the trajectory's last pose.
       EXPECT_TRUE(episode.trajectory().back().translation().isApprox(
           world.kinematics().cameraToWorld(world.camera()).translation() / 32.0, 1e-9));

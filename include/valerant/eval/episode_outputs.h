@@ -5,8 +5,9 @@
 // mesh.glb, walkable.json, overview.png, orbit.png), the map kept for valerant_export
 // (map/run_map.h: keyframes.pcd, keyframes.txt; config.yaml must be saved first with
 // saveRunConfig), trajectory.txt (TUM, SLAM frame), gt_trajectory.txt (TUM, BSP frame,
-// game units), topdown.png and report.json (with the ground-truth figures when the
-// engine map is given). decisions.jsonl is the caller's, written step by step.
+// game units), topdown.png, view.png (the last committed frame) and report.json (with
+// the ground-truth figures when the engine map is given). decisions.jsonl is the
+// caller's, written step by step.
 #include <nlohmann/json.hpp>
 #include <string>
 

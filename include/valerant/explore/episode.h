@@ -79,6 +79,8 @@ class Episode {
   const FloorPlane& gridAnchor() const { return anchor_floor_; }
   const Eigen::Vector3d& gridHeading() const { return anchor_heading_; }
   const Config& config() const { return config_; }
+  // What the player sees now: the last committed frame (RGB; empty before any frame).
+  cv::Mat currentView() const;
 
  private:
   struct Candidates {  // one step's judged candidates, index-aligned
