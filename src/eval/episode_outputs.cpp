@@ -42,6 +42,7 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
   }
   return {{"committed_frames", truth.committed_frames},
           {"penetrations", truth.penetrating_frames},
+          {"discarded_penetrations", truth.discarded_penetrating_frames},
           {"penetration_free_steps", penetration_free_steps},
           {"reachable_m2", truth.reachable_m2},
           {"observed_reachable_m2", truth.observed_reachable_m2},

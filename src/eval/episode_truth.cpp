@@ -20,11 +20,21 @@ Cell2 metreCell(double x_units, double y_units) {
 
 }  // namespace
 
+int committedInSolidFrames(const std::vector<StepRecord>& history) {
+  int frames = 0;
+  for (const auto& step : history)
+    if (step.chosen >= 0)
+      for (const auto& f : step.candidates.at(step.chosen).truth) frames += f.in_solid;
+  return frames;
+}
+
 EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::ReachableFloor& reachable) {
   EpisodeTruth t;
   const auto& truth = episode.truth();
   t.committed_frames = static_cast<int>(truth.size());
   for (const auto& f : truth) t.penetrating_frames += f.in_solid;
+  // The context frames are in the trajectory but in no step: a spawn is never in solid.
+  t.discarded_penetrating_frames = committedInSolidFrames(episode.history()) - t.penetrating_frames;
 
   for (const auto& step : episode.history()) {
     for (const auto& c : step.candidates) {

@@ -104,7 +104,7 @@ namespace {
 
 const char* const kResultsCsvHeader =
     "map,spawn,config,ok,committed_steps,rewinds,observed_reachable_percent,observed_reachable_m2,"
-    "penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,accuracy_median_m,"
+    "penetrations,discarded_penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,accuracy_median_m,"
     "accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,error";
 
 // "map,spawn,config" of a results.csv row: what identifies its run.
@@ -146,8 +146,8 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
     out << r.run.map << ',' << r.run.spawn << ',' << r.run.config << ',' << r.ok << ',' << number(j, "committed_steps")
         << ',' << number(j, "rewinds") << ',' << number(g, "observed_reachable_percent") << ','
         << number(g, "observed_reachable_m2") << ',' << number(g, "penetrations") << ','
-        << number(g, "penetration_free_steps") << ',' << number(g, "false_rejections") << ','
-        << number(g, "missed_collisions") << ',' << number(g, "ate_percent") << ',' << number(g, "accuracy_median_m")
+        << number(g, "discarded_penetrations") << ',' << number(g, "penetration_free_steps") << ','
+        << number(g, "false_rejections") << ',' << number(g, "missed_collisions") << ',' << number(g, "ate_percent") << ',' << number(g, "accuracy_median_m")
         << ',' << number(g, "accuracy_p90_m") << ',' << number(g, "completeness_percent") << ','
         << number(j, "wall_seconds") << ',' << number(j, "frames_rendered") << ",\"" << r.error << "\"\n";
   }

@@ -42,3 +42,23 @@ TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
   EXPECT_TRUE(truth.map_to_world_metres.apply(first).isApprox(first, 1e-9));
   EXPECT_GT(truth.observed_reachable_m2, 10.0);
 }
+
+// Hand-made history: step 1 committed 3 frames, 2 in solid; step 2 stalled (its
+// candidates' in-solid frames were never committed); step 3 committed 1 in-solid frame
+// of 2; step 4 rewound and committed nothing. 3 in-solid frames were committed.
+TEST(EpisodeTruth, CommittedInSolidFramesCountOnlyChosenCandidates) {
+  auto candidate = [](std::vector<bool> in_solid) {
+    CandidateRecord c;
+    for (bool s : in_solid) c.truth.push_back({Eigen::Isometry3d::Identity(), cv::Mat(), s, 0.0});
+    return c;
+  };
+  std::vector<StepRecord> history(4);
+  history[0].candidates = {candidate({false, false, false}), candidate({false, true, true})};
+  history[0].chosen = 1;
+  history[1].candidates = {candidate({true, true}), candidate({true})};
+  history[2].candidates = {candidate({true, false})};
+  history[2].chosen = 0;
+  history[3].rewind = true;
+  EXPECT_EQ(committedInSolidFrames(history), 3);
+  EXPECT_EQ(committedInSolidFrames({}), 0);
+}

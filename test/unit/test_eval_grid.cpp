@@ -131,9 +131,9 @@ TEST(EvalReport, ResultsCsvKeepsTheRowsOfOtherRuns) {
   writeResultsCsv(path, {result("a", 1, 7), result("c", 0, 1)});
   const auto lines = rows();
   ASSERT_EQ(lines.size(), 5u);  // header, the 2 reported rows, the 2 other runs' rows
-  EXPECT_EQ(lines[1].substr(0, 19), "a,1,full,1,0,0,7,0,");
+  EXPECT_EQ(lines[1].substr(0, 21), "a,1,full,1,0,0,7,0,0,");
   EXPECT_EQ(lines[2].substr(0, 9), "c,0,full,");
-  EXPECT_EQ(lines[3].substr(0, 19), "a,0,full,1,0,0,5,0,");
+  EXPECT_EQ(lines[3].substr(0, 21), "a,0,full,1,0,0,5,0,0,");
   EXPECT_EQ(lines[4].substr(0, 9), "b,0,full,");
   // A file of another format is kept beside, not merged.
   { std::ofstream(path) << "old,format\n1,2\n"; }

@@ -21,7 +21,10 @@ namespace valerant {
 
 struct EpisodeTruth {
   int committed_frames = 0;
-  int penetrating_frames = 0;  // committed frames whose player hull is inside solid
+  int penetrating_frames = 0;  // frames of the final trajectory whose player hull is inside solid
+  // In-solid frames of committed steps that a rewind later discarded: committed once,
+  // so counted, but no longer part of the trajectory (or of penetrating_frames).
+  int discarded_penetrating_frames = 0;
   double reachable_m2 = 0;
   double observed_reachable_m2 = 0;
   double observed_reachable_percent = 0;
@@ -40,6 +43,9 @@ struct EpisodeTruth {
   int false_rejections = 0;      // predicted but not truly colliding
   int missed_collisions = 0;     // truly colliding but not predicted
 };
+
+// In-solid frames of every committed step in `history`, kept or later discarded.
+int committedInSolidFrames(const std::vector<StepRecord>& history);
 
 EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::ReachableFloor& reachable);
 
