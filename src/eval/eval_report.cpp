@@ -104,8 +104,8 @@ namespace {
 
 const char* const kResultsCsvHeader =
     "map,spawn,config,ok,committed_steps,rewinds,observed_reachable_percent,observed_reachable_m2,"
-    "penetrations,discarded_penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,accuracy_median_m,"
-    "accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,error";
+    "penetrations,discarded_penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,"
+    "accuracy_median_m,accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,error";
 
 // "map,spawn,config" of a results.csv row: what identifies its run.
 std::string runKey(const std::string& row) {
@@ -115,14 +115,17 @@ std::string runKey(const std::string& row) {
 }
 
 // The rows of an existing results.csv whose runs are not in `results`. A file of another
-// format is moved aside to PATH.previous instead of being merged or overwritten.
+// format is moved aside (PATH.previous, or .previous.2, ... if taken) instead of being
+// merged or overwritten.
 std::vector<std::string> rowsOfOtherRuns(const std::string& path, const std::vector<EvalResult>& results) {
   std::ifstream in(path);
   std::string header;
   if (!in || !std::getline(in, header)) return {};
   if (header != kResultsCsvHeader) {
     in.close();
-    std::filesystem::rename(path, path + ".previous");
+    std::string aside = path + ".previous";
+    for (int n = 2; std::filesystem::exists(aside); ++n) aside = path + ".previous." + std::to_string(n);
+    std::filesystem::rename(path, aside);
     return {};
   }
   std::set<std::string> current;
@@ -143,13 +146,16 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
   for (const auto& r : results) {
     const auto& j = r.report;
     const nlohmann::json g = r.ok ? j["ground_truth"] : nlohmann::json::object();
-    out << r.run.map << ',' << r.run.spawn << ',' << r.run.config << ',' << r.ok << ',' << number(j, "committed_steps")
-        << ',' << number(j, "rewinds") << ',' << number(g, "observed_reachable_percent") << ','
-        << number(g, "observed_reachable_m2") << ',' << number(g, "penetrations") << ','
-        << number(g, "discarded_penetrations") << ',' << number(g, "penetration_free_steps") << ','
-        << number(g, "false_rejections") << ',' << number(g, "missed_collisions") << ',' << number(g, "ate_percent") << ',' << number(g, "accuracy_median_m")
-        << ',' << number(g, "accuracy_p90_m") << ',' << number(g, "completeness_percent") << ','
-        << number(j, "wall_seconds") << ',' << number(j, "frames_rendered") << ",\"" << r.error << "\"\n";
+    // In the order of kResultsCsvHeader.
+    const std::pair<const nlohmann::json*, const char*> fields[] = {
+        {&j, "committed_steps"},       {&j, "rewinds"},           {&g, "observed_reachable_percent"},
+        {&g, "observed_reachable_m2"}, {&g, "penetrations"},      {&g, "discarded_penetrations"},
+        {&g, "penetration_free_steps"}, {&g, "false_rejections"}, {&g, "missed_collisions"},
+        {&g, "ate_percent"},           {&g, "accuracy_median_m"}, {&g, "accuracy_p90_m"},
+        {&g, "completeness_percent"},  {&j, "wall_seconds"},      {&j, "frames_rendered"}};
+    out << r.run.map << ',' << r.run.spawn << ',' << r.run.config << ',' << r.ok;
+    for (const auto& [source, key] : fields) out << ',' << number(*source, key);
+    out << ",\"" << r.error << "\"\n";
   }
   for (const auto& row : others) out << row << "\n";
   if (!out) throw InputError(path, "cannot write results");

@@ -113,6 +113,7 @@ TEST(EvalReport, ResultsCsvKeepsTheRowsOfOtherRuns) {
   const std::string path = ::testing::TempDir() + "/valerant_results.csv";
   std::remove(path.c_str());
   std::remove((path + ".previous").c_str());
+  std::remove((path + ".previous.2").c_str());
   auto result = [](const std::string& map, int spawn, double observed) {
     EvalResult r;
     r.run = {map, spawn, "full", "/o"};
@@ -143,4 +144,10 @@ TEST(EvalReport, ResultsCsvKeepsTheRowsOfOtherRuns) {
   std::string header;
   std::getline(previous, header);
   EXPECT_EQ(header, "old,format");
+  // A second one does not overwrite the first.
+  { std::ofstream(path) << "older,format\n"; }
+  writeResultsCsv(path, {result("a", 0, 5)});
+  std::ifstream second(path + ".previous.2");
+  std::getline(second, header);
+  EXPECT_EQ(header, "older,format");
 }
