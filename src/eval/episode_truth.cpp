@@ -20,11 +20,16 @@ Cell2 metreCell(double x_units, double y_units) {
 
 }  // namespace
 
+int committedInSolidFrames(const StepRecord& step) {
+  int frames = 0;
+  if (step.chosen >= 0)
+    for (const auto& f : step.candidates.at(step.chosen).truth) frames += f.in_solid;
+  return frames;
+}
+
 int committedInSolidFrames(const std::vector<StepRecord>& history) {
   int frames = 0;
-  for (const auto& step : history)
-    if (step.chosen >= 0)
-      for (const auto& f : step.candidates.at(step.chosen).truth) frames += f.in_solid;
+  for (const auto& step : history) frames += committedInSolidFrames(step);
   return frames;
 }
 

@@ -44,6 +44,8 @@ struct EpisodeTruth {
   int missed_collisions = 0;     // truly colliding but not predicted
 };
 
+// In-solid frames the step committed (0 for a stall).
+int committedInSolidFrames(const StepRecord& step);
 // In-solid frames of every committed step in `history`, kept or later discarded.
 int committedInSolidFrames(const std::vector<StepRecord>& history);
 
