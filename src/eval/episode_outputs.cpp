@@ -34,7 +34,7 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
                   episode.truth(),
                   CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg));
   int penetration_free_steps = 0;  // committed steps none of whose frames entered solid
-  for (const auto& s : episode.history()) penetration_free_steps += s.chosen >= 0 && committedInSolidFrames(s) == 0;
+  for (const auto& s : episode.history()) penetration_free_steps += s.chosen >= 0 && stepInSolidFrames(s) == 0;
   return {{"committed_frames", truth.committed_frames},
           {"penetrations", truth.penetrating_frames},
           {"discarded_penetrations", truth.discarded_penetrating_frames},

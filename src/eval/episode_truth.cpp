@@ -20,7 +20,7 @@ Cell2 metreCell(double x_units, double y_units) {
 
 }  // namespace
 
-int committedInSolidFrames(const StepRecord& step) {
+int stepInSolidFrames(const StepRecord& step) {
   int frames = 0;
   if (step.chosen >= 0)
     for (const auto& f : step.candidates.at(step.chosen).truth) frames += f.in_solid;
@@ -29,7 +29,7 @@ int committedInSolidFrames(const StepRecord& step) {
 
 int committedInSolidFrames(const std::vector<StepRecord>& history) {
   int frames = 0;
-  for (const auto& step : history) frames += committedInSolidFrames(step);
+  for (const auto& step : history) frames += stepInSolidFrames(step);
   return frames;
 }
 

@@ -45,7 +45,7 @@ struct EpisodeTruth {
 };
 
 // In-solid frames the step committed (0 for a stall).
-int committedInSolidFrames(const StepRecord& step);
+int stepInSolidFrames(const StepRecord& step);
 // In-solid frames of every committed step in `history`, kept or later discarded.
 int committedInSolidFrames(const std::vector<StepRecord>& history);
 
