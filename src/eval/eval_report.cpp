@@ -29,6 +29,11 @@ std::string fixed(double v, int digits = 1) {
 
 std::string ratio(double v) { return v < 0 ? "-" : fixed(v, 2); }
 
+// A figure a run's report.json may lack (written before the field existed): "-", not 0.
+std::string recorded(const nlohmann::json& j, const char* key) {
+  return j.contains(key) && j[key].is_number() ? fixed(j[key].get<double>(), 0) : "-";
+}
+
 }  // namespace
 
 std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, const std::vector<std::string>& configs) {
@@ -38,6 +43,8 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     s.config = config;
     std::vector<std::vector<double>> curves;
     double predicted = 0, truly = 0, false_rejections = 0, missed = 0;
+    double discarded = 0;
+    int discarded_runs = 0;
     for (const auto& r : results) {
       if (r.run.config != config) continue;
       if (!r.ok) {
@@ -51,6 +58,10 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
       const double clean = number(g, "penetration_free_steps");
       s.observed_m2_per_clean_step += clean > 0 ? number(g, "observed_reachable_m2") / clean : 0.0;
       s.penetrations += number(g, "penetrations");
+      if (g.contains("discarded_penetrations")) {
+        discarded += number(g, "discarded_penetrations");
+        ++discarded_runs;
+      }
       s.rewinds += number(r.report, "rewinds");
       s.false_rejections += number(g, "false_rejections");
       s.missed_collisions += number(g, "missed_collisions");
@@ -85,6 +96,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
         *v /= s.runs;
       for (auto& [stage, seconds] : s.stage_seconds) seconds /= s.runs;
     }
+    if (discarded_runs > 0) s.discarded_penetrations = discarded / discarded_runs;
     if (predicted > 0) s.verdict_precision = (predicted - false_rejections) / predicted;
     if (truly > 0) s.verdict_recall = (truly - missed) / truly;
     // A run that ended early (budget of steps not used up, or a stall) keeps its last
@@ -168,15 +180,17 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
      << "Means over runs (maps x spawns) per configuration. Coverage is the share of the player-reachable floor "
         "(1 m cells) the fused map observed; per clean step divides the observed area by the committed steps "
         "none of whose frames entered solid. Penetrations count committed frames whose player hull is inside "
-        "solid brushes.\n\n"
-     << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | rewinds | "
-        "false rejections | missed collisions | verdict precision | verdict recall | ATE % | accuracy median m | "
+        "solid brushes; discarded ones count those of committed steps that a later rewind threw away (they "
+        "are not on the final trajectory, but the agent did commit them).\n\n"
+     << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | "
+        "discarded penetrations | rewinds | false rejections | missed collisions | verdict precision | verdict recall | ATE % | accuracy median m | "
         "completeness % | s / run | frames/s |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : summaries) {
     md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << fixed(s.observed_percent) << " | "
        << fixed(s.observed_m2) << " | " << fixed(s.observed_m2_per_clean_step, 2) << " | " << fixed(s.penetrations)
-       << " | " << fixed(s.rewinds, 2) << " | " << fixed(s.false_rejections) << " | " << fixed(s.missed_collisions)
+       << " | " << (s.discarded_penetrations < 0 ? std::string("-") : fixed(s.discarded_penetrations)) << " | "
+       << fixed(s.rewinds, 2) << " | " << fixed(s.false_rejections) << " | " << fixed(s.missed_collisions)
        << " | " << ratio(s.verdict_precision) << " | " << ratio(s.verdict_recall) << " | " << fixed(s.ate_percent, 2) << " | " << fixed(s.accuracy_median_m, 3) << " | "
        << fixed(s.completeness_percent) << " | " << fixed(s.wall_seconds) << " | " << fixed(s.frames_per_second)
        << " |\n";
@@ -207,19 +221,20 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
      << "![coverage per clean step](" << plots_prefix << "coverage_per_clean_step.png)\n\n## Runs\n\n"
      << "Top-down maps of every run, one sheet per configuration: ";
   for (const auto& s : summaries) md << "[" << s.config << "](" << plots_prefix << "topdowns_" << s.config << ".png) ";
-  md << "\n\n| map | spawn | config | reachable observed % | m2 | committed steps | penetrations | rewinds |\n"
-        "|---|---|---|---|---|---|---|---|\n";
+  md << "\n\n| map | spawn | config | reachable observed % | m2 | committed steps | penetrations | "
+        "discarded penetrations | rewinds |\n"
+        "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     if (!r.ok) {
       md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | failed: " << r.error
-         << " | | | | |\n";
+         << " | | | | | |\n";
       continue;
     }
     const auto& g = r.report["ground_truth"];
     md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | "
        << fixed(number(g, "observed_reachable_percent")) << " | " << fixed(number(g, "observed_reachable_m2"), 0)
        << " | " << number(r.report, "committed_steps") << " | " << number(g, "penetrations") << " | "
-       << number(r.report, "rewinds") << " |\n";
+       << recorded(g, "discarded_penetrations") << " | " << number(r.report, "rewinds") << " |\n";
   }
   return md.str();
 }

@@ -145,9 +145,11 @@ TEST(Episode, ADeadEndAheadCommitsACleanPrefix) {
   ASSERT_NE(base, chosen.verdict.candidate);  // a prefix, e.g. jw@40
   EXPECT_FALSE(chosen.verdict.rotation_only);
   for (const auto& f : chosen.truth) EXPECT_FALSE(f.in_solid);
-  for (size_t i = 0; i < 5; ++i)
-    if (with.candidates[i].verdict.candidate == base)
+  for (size_t i = 0; i < 5; ++i) {
+    if (with.candidates[i].verdict.candidate == base) {
       EXPECT_EQ(chosen.verdict.candidate, prefixName(base, with.candidates[i].verdict.prefix_frames));
+    }
+  }
   EXPECT_EQ(chosen.truth.size(), makeActionSequence(chosen.verdict.candidate, config).steps.size());
 
   config.collision.prefix_commits = false;

@@ -46,8 +46,14 @@ TEST(EvalReport, MeansPerConfiguration) {
   // The third full run fused nothing: no curve, 0 at every step.
   auto nothing = result("full", 0, 0, 3);
   nothing.report["ground_truth"].erase("observed_percent_by_step");
-  std::vector<EvalResult> results = {result("full", 20, 0, 4), result("full", 30, 0, 5), nothing,
-                                     result("random", 10, 6, 2, {10}), result("random", 8, 0, 2)};
+  // Discarded in-solid frames: 4 and 0 in two full runs; the third report predates the
+  // field, so the mean is over two runs (2), and its row shows "-", not 0.
+  auto discarded = [](EvalResult r, double frames) {
+    r.report["ground_truth"]["discarded_penetrations"] = frames;
+    return r;
+  };
+  std::vector<EvalResult> results = {discarded(result("full", 20, 0, 4), 4), discarded(result("full", 30, 0, 5), 0),
+                                     nothing, result("random", 10, 6, 2, {10}), result("random", 8, 0, 2)};
   EvalResult failed;
   failed.run = {"m", 1, "random", "/o"};
   failed.error = "no report.json";
@@ -62,9 +68,15 @@ TEST(EvalReport, MeansPerConfiguration) {
   EXPECT_EQ(s[1].runs, 2);
   EXPECT_EQ(s[1].failed, 1);
   EXPECT_DOUBLE_EQ(s[1].penetrations, 3.0);
+  EXPECT_DOUBLE_EQ(s[0].discarded_penetrations, 2.0);
+  EXPECT_DOUBLE_EQ(s[1].discarded_penetrations, -1.0);  // no random report records them
   EXPECT_EQ(s[1].observed_by_step, (std::vector<double>{(10 + 4) / 2.0, (10 + 8) / 2.0}));
   const std::string md = markdownReport(s, results, "cmd", "");
   EXPECT_NE(md.find("| full | 3 | 0 | 16.7 |"), std::string::npos);
+  EXPECT_NE(md.find("| 0.0 | 2.0 | 1.00 |"), std::string::npos);   // full: penetrations, discarded, rewinds
+  EXPECT_NE(md.find("| 45.00 | 3.0 | - | 1.00 |"), std::string::npos);  // random: none recorded
+  EXPECT_NE(md.find("| m | 0 | full | 20.0 | 200 | 0 | 0 | 4 | 1 |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 0 | full | 0.0 | 0 | 0 | 0 | - | 1 |"), std::string::npos);
   EXPECT_NE(md.find("failed: no report.json"), std::string::npos);
 }
 

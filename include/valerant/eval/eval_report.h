@@ -25,6 +25,10 @@ struct ConfigSummary {
   int runs = 0, failed = 0;
   double observed_percent = 0, observed_m2 = 0, observed_m2_per_clean_step = 0;
   double penetrations = 0, rewinds = 0, false_rejections = 0, missed_collisions = 0;
+  // In-solid frames of committed steps that a rewind later discarded, mean over the runs
+  // whose report.json records them (written before the field existed: not counted); -1
+  // when none does.
+  double discarded_penetrations = -1;
   double ate_percent = 0, accuracy_median_m = 0, completeness_percent = 0, wall_seconds = 0, frames_per_second = 0;
   double committed_steps = 0, observed_m2_per_step = 0;  // new reachable area per committed step
   // Collision verdicts against ground truth ("this candidate would enter solid"), summed
