@@ -35,9 +35,18 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
                   CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg));
   int penetration_free_steps = 0;  // committed steps none of whose frames entered solid
   for (const auto& s : episode.history()) penetration_free_steps += s.chosen >= 0 && stepInSolidFrames(s) == 0;
+  nlohmann::json events = nlohmann::json::array();
+  for (const PenetrationEvent& e : penetrationEvents(episode.history()))
+    events.push_back({{"step", e.step},
+                      {"candidate", e.candidate},
+                      {"frames", e.frames},
+                      {"first_frame", e.first_frame},
+                      {"occupied_max", e.occupied_max},
+                      {"min_near_ratio", e.min_near_ratio}});
   return {{"committed_frames", truth.committed_frames},
           {"penetrations", truth.penetrating_frames},
           {"discarded_penetrations", truth.discarded_penetrating_frames},
+          {"penetration_events", events},
           {"penetration_free_steps", penetration_free_steps},
           {"reachable_m2", truth.reachable_m2},
           {"observed_reachable_m2", truth.observed_reachable_m2},

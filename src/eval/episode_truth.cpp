@@ -27,6 +27,19 @@ int stepInSolidFrames(const StepRecord& step) {
   return frames;
 }
 
+std::vector<PenetrationEvent> penetrationEvents(const std::vector<StepRecord>& history) {
+  std::vector<PenetrationEvent> events;
+  for (const auto& step : history) {
+    const int frames = stepInSolidFrames(step);
+    if (frames == 0) continue;
+    const CandidateRecord& c = step.candidates.at(step.chosen);
+    int first = 0;
+    while (!c.truth[first].in_solid) ++first;
+    events.push_back({step.step, c.verdict.candidate, frames, first, c.verdict.occupied_max, c.verdict.min_near_ratio});
+  }
+  return events;
+}
+
 int committedInSolidFrames(const std::vector<StepRecord>& history) {
   int frames = 0;
   for (const auto& step : history) frames += stepInSolidFrames(step);

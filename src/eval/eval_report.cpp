@@ -173,6 +173,41 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
   if (!out) throw InputError(path, "cannot write results");
 }
 
+std::string penetrationEventsSection(const std::vector<EvalResult>& results, const std::string& config) {
+  std::ostringstream md;
+  md << "\n## Penetration events (" << config << ")\n\n"
+     << "Every committed step of a " << config << " run that put the player hull inside solid (including steps a "
+        "rewind later discarded), with what the collision tests saw: the most points in the body cylinder at one "
+        "sample (eq. 6 needs N_occ at two consecutive samples) and the smallest central depth in camera heights "
+        "(eq. 7 fires at d_near or below).\n\n";
+  std::ostringstream rows;
+  int events = 0, unrecorded = 0;
+  for (const auto& r : results) {
+    if (!r.ok || r.run.config != config) continue;
+    const auto& g = r.report["ground_truth"];
+    if (!g.contains("penetration_events") || !g["penetration_events"].is_array()) {
+      ++unrecorded;
+      continue;
+    }
+    for (const auto& e : g["penetration_events"]) {
+      ++events;
+      rows << "| " << r.run.map << " | " << r.run.spawn << " | " << number(e, "step") << " | "
+           << e.value("candidate", std::string("?")) << " | " << number(e, "frames") << " | "
+           << number(e, "first_frame") << " | " << number(e, "occupied_max") << " | "
+           << fixed(number(e, "min_near_ratio"), 2) << " |\n";
+    }
+  }
+  if (events == 0)
+    md << "None.\n";
+  else
+    md << "| map | spawn | step | candidate | in-solid frames | first in-solid frame | points in body | "
+          "central depth / camera height |\n|---|---|---|---|---|---|---|---|\n"
+       << rows.str();
+  if (unrecorded > 0)
+    md << "\n" << unrecorded << " run(s) have a report.json written before the events were recorded.\n";
+  return md.str();
+}
+
 std::string markdownReport(const std::vector<ConfigSummary>& summaries, const std::vector<EvalResult>& results,
                            const std::string& command, const std::string& plots_prefix) {
   std::ostringstream md;
@@ -199,6 +234,7 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "really enters solid; recall: of the candidates that really enter solid, the share rejected.\n\n"
      << "## Findings (against full)\n\n";
   for (const auto& line : findings(summaries, "full")) md << "- " << line << "\n";
+  md << penetrationEventsSection(results, "full");
   md << "\n## Time per run by stage (s, mean)\n\n| config | committed steps | new m2 / step |";
   std::vector<std::string> stages;
   for (const auto& s : summaries)

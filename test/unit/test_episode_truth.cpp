@@ -62,3 +62,35 @@ TEST(EpisodeTruth, CommittedInSolidFramesCountOnlyChosenCandidates) {
   EXPECT_EQ(committedInSolidFrames(history), 3);
   EXPECT_EQ(committedInSolidFrames({}), 0);
 }
+
+// The same kind of history: step 2 committed "jw@20" with its 3rd and 4th frames in
+// solid, 12 points in its body cylinder and a central depth of 4.6 camera heights;
+// step 1 committed a clean "uw"; step 3 stalled with in-solid candidates.
+TEST(EpisodeTruth, PenetrationEventsNameTheCommittedStepAndWhatTheTestsSaw) {
+  auto candidate = [](const std::string& name, std::vector<bool> in_solid, int occupied, double near) {
+    CandidateRecord c;
+    c.verdict.candidate = name;
+    c.verdict.occupied_max = occupied;
+    c.verdict.min_near_ratio = near;
+    for (bool s : in_solid) c.truth.push_back({Eigen::Isometry3d::Identity(), cv::Mat(), s, 0.0});
+    return c;
+  };
+  std::vector<StepRecord> history(3);
+  history[0].step = 1;
+  history[0].candidates = {candidate("uw", {false, false}, 3, 2.0)};
+  history[0].chosen = 0;
+  history[1].step = 2;
+  history[1].candidates = {candidate("uw", {true}, 400, 0.1), candidate("jw@20", {false, false, true, true}, 12, 4.6)};
+  history[1].chosen = 1;
+  history[2].step = 3;
+  history[2].candidates = {candidate("lw", {true, true}, 50, 0.2)};
+  const std::vector<PenetrationEvent> events = penetrationEvents(history);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].step, 2);
+  EXPECT_EQ(events[0].candidate, "jw@20");
+  EXPECT_EQ(events[0].frames, 2);
+  EXPECT_EQ(events[0].first_frame, 2);
+  EXPECT_EQ(events[0].occupied_max, 12);
+  EXPECT_DOUBLE_EQ(events[0].min_near_ratio, 4.6);
+  EXPECT_TRUE(penetrationEvents({}).empty());
+}

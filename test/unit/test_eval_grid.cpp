@@ -77,7 +77,29 @@ TEST(EvalReport, MeansPerConfiguration) {
   EXPECT_NE(md.find("| 45.00 | 3.0 | - | 1.00 |"), std::string::npos);  // random: none recorded
   EXPECT_NE(md.find("| m | 0 | full | 20.0 | 200 | 0 | 0 | 4 | 1 |"), std::string::npos);
   EXPECT_NE(md.find("| m | 0 | full | 0.0 | 0 | 0 | 0 | - | 1 |"), std::string::npos);
+  // No full report lists penetration events: the section says how many predate them.
+  EXPECT_NE(md.find("3 run(s) have a report.json written before"), std::string::npos);
   EXPECT_NE(md.find("failed: no report.json"), std::string::npos);
+}
+
+TEST(EvalReport, PenetrationEventsSectionListsTheRunsEvents) {
+  auto run = [](int spawn, const std::string& config, nlohmann::json events) {
+    EvalResult r;
+    r.run = {"oa_dm4", spawn, config, "/o"};
+    r.ok = true;
+    r.report = {{"ground_truth", {{"penetration_events", events}}}};
+    return r;
+  };
+  const nlohmann::json graze = {{"step", 14},         {"candidate", "jw@20"},     {"frames", 4},
+                                {"first_frame", 16}, {"occupied_max", 0}, {"min_near_ratio", 4.6406}};
+  const std::vector<EvalResult> results = {run(0, "full", nlohmann::json::array()), run(2, "full", {graze}),
+                                           run(1, "no-col", {graze})};
+  const std::string md = penetrationEventsSection(results, "full");
+  EXPECT_NE(md.find("| oa_dm4 | 2 | 14 | jw@20 | 4 | 16 | 0 | 4.64 |"), std::string::npos);
+  EXPECT_EQ(md.find("| oa_dm4 | 1 |"), std::string::npos);  // another configuration
+  EXPECT_EQ(md.find("written before"), std::string::npos);
+  EXPECT_NE(penetrationEventsSection({run(0, "full", nlohmann::json::array())}, "full").find("None."),
+            std::string::npos);
 }
 
 TEST(EvalReport, VerdictQualityStagesAndFindings) {

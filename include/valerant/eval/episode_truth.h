@@ -11,6 +11,7 @@
 // (|h| < eta_low) then mark 1 m cells. A reachable 1 m cell counts as observed when a
 // floor point falls in it within half a step height of a reachable floor height there.
 #include <Eigen/Geometry>
+#include <string>
 #include <vector>
 
 #include "valerant/eval/trajectory_metrics.h"
@@ -46,6 +47,19 @@ struct EpisodeTruth {
 
 // In-solid frames the step committed (0 for a stall).
 int stepInSolidFrames(const StepRecord& step);
+
+// A committed step that put the player hull inside solid, with what its collision tests
+// saw: the figures one needs to tell why the tests let it through.
+struct PenetrationEvent {
+  int step = 0;
+  std::string candidate;      // the committed candidate, e.g. "jw" or a prefix "jw@20"
+  int frames = 0;             // its in-solid frames
+  int first_frame = 0;        // 0-based index of the first one within the step
+  int occupied_max = 0;       // most points in the body cylinder at one sample (eq. 6)
+  double min_near_ratio = 0;  // smallest central depth / camera height (eq. 7)
+};
+// Every committed step of `history` with in-solid frames, kept or later discarded.
+std::vector<PenetrationEvent> penetrationEvents(const std::vector<StepRecord>& history);
 // In-solid frames of every committed step in `history`, kept or later discarded.
 int committedInSolidFrames(const std::vector<StepRecord>& history);
 

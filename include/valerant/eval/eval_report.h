@@ -42,6 +42,9 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
 // One row per result, then the rows of an existing file at `path` for runs not among
 // `results` (a report of a subset of a grid does not drop the rest of the grid's rows).
 void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& results);
+// The markdown section listing every penetration event (report.json's
+// ground_truth.penetration_events) of the runs of `config`.
+std::string penetrationEventsSection(const std::vector<EvalResult>& results, const std::string& config);
 std::string markdownReport(const std::vector<ConfigSummary>& summaries, const std::vector<EvalResult>& results,
                            const std::string& command, const std::string& plots_prefix);
 // Plain sentences comparing every configuration with `reference` (coverage per clean
