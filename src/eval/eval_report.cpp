@@ -192,7 +192,8 @@ std::string penetrationEventsSection(const std::vector<EvalResult>& results, con
     for (const auto& e : g["penetration_events"]) {
       ++events;
       rows << "| " << r.run.map << " | " << r.run.spawn << " | " << number(e, "step") << " | "
-           << e.value("candidate", std::string("?")) << " | " << number(e, "frames") << " | "
+           << (e.contains("candidate") && e["candidate"].is_string() ? e["candidate"].get<std::string>() : "?")
+           << " | " << number(e, "frames") << " | "
            << number(e, "first_frame") << " | " << number(e, "occupied_max") << " | "
            << fixed(number(e, "min_near_ratio"), 2) << " |\n";
     }
