@@ -14,9 +14,9 @@
 namespace valerant {
 namespace {
 
-double number(const nlohmann::json& j, const char* key) {
-  return j.contains(key) && j[key].is_number() ? j[key].get<double>() : 0.0;
-}
+bool hasNumber(const nlohmann::json& j, const char* key) { return j.contains(key) && j[key].is_number(); }
+
+double number(const nlohmann::json& j, const char* key) { return hasNumber(j, key) ? j[key].get<double>() : 0.0; }
 
 const cv::Scalar kPalette[] = {{40, 40, 220}, {40, 160, 40}, {220, 120, 30}, {160, 40, 160}, {30, 170, 200},
                                {120, 120, 120}, {200, 60, 120}, {60, 200, 140}, {0, 90, 200}, {140, 140, 0}};
@@ -31,7 +31,7 @@ std::string ratio(double v) { return v < 0 ? "-" : fixed(v, 2); }
 
 // A figure a run's report.json may lack (written before the field existed): "-", not 0.
 std::string recorded(const nlohmann::json& j, const char* key) {
-  return j.contains(key) && j[key].is_number() ? fixed(j[key].get<double>(), 0) : "-";
+  return hasNumber(j, key) ? fixed(number(j, key), 0) : "-";
 }
 
 }  // namespace
@@ -58,7 +58,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
       const double clean = number(g, "penetration_free_steps");
       s.observed_m2_per_clean_step += clean > 0 ? number(g, "observed_reachable_m2") / clean : 0.0;
       s.penetrations += number(g, "penetrations");
-      if (g.contains("discarded_penetrations")) {
+      if (hasNumber(g, "discarded_penetrations")) {
         discarded += number(g, "discarded_penetrations");
         ++discarded_runs;
       }
