@@ -43,15 +43,26 @@ TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
   EXPECT_GT(truth.observed_reachable_m2, 10.0);
 }
 
+namespace {
+
+// A candidate of a hand-made history: one frame per entry of `in_solid` (true: the
+// player hull is inside solid there), and the figures its collision tests reported.
+CandidateRecord candidate(std::vector<bool> in_solid, const std::string& name = "", int occupied_max = 0,
+                          double min_near_ratio = 0) {
+  CandidateRecord c;
+  c.verdict.candidate = name;
+  c.verdict.occupied_max = occupied_max;
+  c.verdict.min_near_ratio = min_near_ratio;
+  for (bool s : in_solid) c.truth.push_back({Eigen::Isometry3d::Identity(), cv::Mat(), s, 0.0});
+  return c;
+}
+
+}  // namespace
+
 // Hand-made history: step 1 committed 3 frames, 2 in solid; step 2 stalled (its
 // candidates' in-solid frames were never committed); step 3 committed 1 in-solid frame
 // of 2; step 4 rewound and committed nothing. 3 in-solid frames were committed.
 TEST(EpisodeTruth, CommittedInSolidFramesCountOnlyChosenCandidates) {
-  auto candidate = [](std::vector<bool> in_solid) {
-    CandidateRecord c;
-    for (bool s : in_solid) c.truth.push_back({Eigen::Isometry3d::Identity(), cv::Mat(), s, 0.0});
-    return c;
-  };
   std::vector<StepRecord> history(4);
   history[0].candidates = {candidate({false, false, false}), candidate({false, true, true})};
   history[0].chosen = 1;
@@ -67,23 +78,15 @@ TEST(EpisodeTruth, CommittedInSolidFramesCountOnlyChosenCandidates) {
 // solid, 12 points in its body cylinder and a central depth of 4.6 camera heights;
 // step 1 committed a clean "uw"; step 3 stalled with in-solid candidates.
 TEST(EpisodeTruth, PenetrationEventsNameTheCommittedStepAndWhatTheTestsSaw) {
-  auto candidate = [](const std::string& name, std::vector<bool> in_solid, int occupied, double near) {
-    CandidateRecord c;
-    c.verdict.candidate = name;
-    c.verdict.occupied_max = occupied;
-    c.verdict.min_near_ratio = near;
-    for (bool s : in_solid) c.truth.push_back({Eigen::Isometry3d::Identity(), cv::Mat(), s, 0.0});
-    return c;
-  };
   std::vector<StepRecord> history(3);
   history[0].step = 1;
-  history[0].candidates = {candidate("uw", {false, false}, 3, 2.0)};
+  history[0].candidates = {candidate({false, false}, "uw", 3, 2.0)};
   history[0].chosen = 0;
   history[1].step = 2;
-  history[1].candidates = {candidate("uw", {true}, 400, 0.1), candidate("jw@20", {false, false, true, true}, 12, 4.6)};
+  history[1].candidates = {candidate({true}, "uw", 400, 0.1), candidate({false, false, true, true}, "jw@20", 12, 4.6)};
   history[1].chosen = 1;
   history[2].step = 3;
-  history[2].candidates = {candidate("lw", {true, true}, 50, 0.2)};
+  history[2].candidates = {candidate({true, true}, "lw", 50, 0.2)};
   const std::vector<PenetrationEvent> events = penetrationEvents(history);
   ASSERT_EQ(events.size(), 1u);
   EXPECT_EQ(events[0].step, 2);
