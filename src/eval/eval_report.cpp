@@ -181,9 +181,10 @@ std::string penetrationEventsSection(const std::vector<EvalResult>& results, con
         "sample (eq. 6 needs N_occ at two consecutive samples) and the smallest central depth in camera heights "
         "(eq. 7 fires at d_near or below).\n\n";
   std::ostringstream rows;
-  int events = 0, unrecorded = 0;
+  int runs = 0, events = 0, unrecorded = 0;
   for (const auto& r : results) {
     if (!r.ok || r.run.config != config) continue;
+    ++runs;
     const auto& g = r.report["ground_truth"];
     if (!g.contains("penetration_events") || !g["penetration_events"].is_array()) {
       ++unrecorded;
@@ -198,7 +199,9 @@ std::string penetrationEventsSection(const std::vector<EvalResult>& results, con
            << fixed(number(e, "min_near_ratio"), 2) << " |\n";
     }
   }
-  if (events == 0)
+  if (runs == 0)
+    md << "No finished " << config << " runs.\n";
+  else if (events == 0)
     md << "None.\n";
   else
     md << "| map | spawn | step | candidate | in-solid frames | first in-solid frame | points in body | "

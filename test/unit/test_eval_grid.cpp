@@ -100,6 +100,10 @@ TEST(EvalReport, PenetrationEventsSectionListsTheRunsEvents) {
   EXPECT_EQ(md.find("written before"), std::string::npos);
   EXPECT_NE(penetrationEventsSection({run(0, "full", nlohmann::json::array())}, "full").find("None."),
             std::string::npos);
+  // A grid without full runs lists nothing, and does not claim that full had no events.
+  const std::string without = penetrationEventsSection({run(1, "no-col", {graze})}, "full");
+  EXPECT_NE(without.find("No finished full runs."), std::string::npos);
+  EXPECT_EQ(without.find("None."), std::string::npos);
   // A hand-edited or truncated report: a non-string candidate, a non-object event.
   const std::string odd = penetrationEventsSection({run(0, "full", {{{"candidate", 3}, {"frames", 2}}, 7})}, "full");
   EXPECT_NE(odd.find("| oa_dm4 | 0 | 0 | ? | 2 | 0 | 0 | 0.00 |"), std::string::npos);
