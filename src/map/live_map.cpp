@@ -30,7 +30,7 @@ size_t LiveMap::update(const std::vector<std::shared_ptr<const FusedKeyframe>>& 
     floor_.add(*keyframes[i]);
     keyframes_.push_back(keyframes[i]);
   }
-  octree_->updateInnerOccupancy();  // as MapFusion::octree, so inner nodes' colours agree too
+  updateInnerNodes(*octree_);  // as MapFusion::octree, so inner nodes' colours agree too
   return keyframes.size() - kept;
 }
 

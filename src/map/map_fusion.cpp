@@ -46,7 +46,7 @@ std::unique_ptr<octomap::ColorOcTree> MapFusion::octree(double resolution) const
   auto tree = std::make_unique<octomap::ColorOcTree>(resolution);
   const double max_range = map_config_.max_range_eye_heights * resolution / map_config_.octree_eye_heights;
   for (const auto& kf : keyframes_) insertKeyframe(*tree, *kf, max_range);
-  tree->updateInnerOccupancy();
+  updateInnerNodes(*tree);
   return tree;
 }
 

@@ -63,6 +63,10 @@ void insertKeyframe(octomap::ColorOcTree& tree, const FusedKeyframe& keyframe, d
     tree.averageNodeColor(p.position.x(), p.position.y(), p.position.z(), p.rgb[0], p.rgb[1], p.rgb[2]);
 }
 
+void updateInnerNodes(octomap::ColorOcTree& tree) {
+  if (tree.getRoot() != nullptr) tree.updateInnerOccupancy();
+}
+
 FloorGridBuilder::FloorGridBuilder(const CoverageGrid& grid, double resolution, const CollisionConfig& heights)
     : grid_(grid), height_low_(heights.height_low), height_high_(heights.height_high) {
   const double extent = grid.size() * grid.cellSize();

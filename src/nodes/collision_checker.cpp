@@ -25,6 +25,7 @@
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/guarded.h"
 #include "valerant/ros/nodelet_of.h"
+#include "valerant/ros/topic_links.h"
 #include "valerant/world/action_sequence.h"
 
 using namespace valerant;
@@ -126,6 +127,8 @@ class CollisionChecker {
 
   bool reset(valerant::Reset::Request&, valerant::Reset::Response& res) {
     return guarded("collision_checker/reset", res, [&] {
+      // An episode starts here: its first results must not be lost to a link still being set up.
+      valerant::bridge::waitForPublishers(samples_, valerant::bridge::kTopicLinkTimeoutS, "collision_checker");
       committed_ = CommittedPoints(config_.collision);
       saved_.clear();
       branches_.clear();

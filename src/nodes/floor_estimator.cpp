@@ -26,6 +26,7 @@
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/guarded.h"
 #include "valerant/ros/nodelet_of.h"
+#include "valerant/ros/topic_links.h"
 #include "valerant/world/action_sequence.h"
 
 using namespace valerant;
@@ -129,6 +130,8 @@ class FloorEstimatorNode {
   bool floorContext(valerant::FloorContext::Request& req, valerant::FloorContext::Response& res) {
     return guarded("floor_estimator/floor_context", res, [&] {
       if (req.frames.empty()) throw InputError("context", "has no frames");
+      // An episode starts here: its first frames must not be lost to a link still being set up.
+      valerant::bridge::waitForPublishers(tracked_, valerant::bridge::kTopicLinkTimeoutS, "floor_estimator");
       FloorEstimator floor =
           startFloorEstimator(config_, valerant::bridge::fromMsg(req.frames.front().camera_to_map));
       for (const auto& f : req.frames) res.samples.push_back(sample(floor, f));

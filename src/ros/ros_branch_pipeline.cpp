@@ -12,6 +12,7 @@
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/service_call.h"
+#include "valerant/ros/topic_links.h"
 #include "valerant/world/action_sequence.h"
 
 namespace valerant::bridge {
@@ -52,6 +53,7 @@ RosBranchPipeline::RosBranchPipeline(::ros::NodeHandle nh, double connect_timeou
       throw InputError("service " + nh_.resolveName(name), "not reachable (is the node running?)");
   for (const std::string& c : candidateNames())
     results_.push_back(nh_.subscribe(branchName(c, "result"), 10, &RosBranchPipeline::onResult, this));
+  waitForPublishers(results_, connect_timeout_s, "explorer");
 }
 
 template <class Service>

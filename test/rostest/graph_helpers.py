@@ -7,6 +7,7 @@ import subprocess
 import tempfile
 
 import actionlib
+import rosnode
 import rospy
 import roslib.packages
 from valerant.msg import ExploreAction, ExploreGoal
@@ -23,6 +24,25 @@ def wait_for_connections(endpoint, timeout_s=60.0):
         if rospy.is_shutdown() or rospy.Time.now() > deadline:
             raise RuntimeError("%s: no connection after %s s" % (endpoint.resolved_name, timeout_s))
         rospy.sleep(0.05)
+
+
+GRAPH_NODES = ("world_model", "branch_manager", "branch_slam", "floor_estimator", "collision_checker",
+               "policy_arbiter", "map_fusion", "explorer")
+DIED = re.compile(r"\[([\w./-]+)\] process has died \[pid \d+, exit code (-?\d+)|process has died \[pid \d+, exit code (-?\d+)")
+
+
+def dead_graph_nodes():
+    """The graph's nodes that no longer answer (a crashed process stays registered with
+    the master, so a ping is the test): an empty list when the whole graph is alive."""
+    namespace = rospy.get_namespace()
+    return [n for n in GRAPH_NODES if not rosnode.rosnode_ping(namespace + n, max_count=1, verbose=False)]
+
+
+def node_deaths(roslaunch_log):
+    """Lines of a roslaunch log that report a node ending with an error (a clean exit
+    reads 'process has finished cleanly' instead)."""
+    with open(roslaunch_log) as f:
+        return [line.strip() for line in f if DIED.search(line)]
 
 
 def explore(budget, output_dir, timeout_s, on_feedback=None):

@@ -35,6 +35,7 @@ class EpisodeTest(unittest.TestCase):
         # Same decisions, so the same final view, pixel for pixel (PNG bytes).
         views = [open(os.path.join(out, d, "view.png"), "rb").read() for d in ("graph", "in_process")]
         self.assertEqual(views[0], views[1])
+        self.assertEqual(graph_helpers.dead_graph_nodes(), [])
 
 
 if __name__ == "__main__":

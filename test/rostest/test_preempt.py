@@ -7,6 +7,8 @@ import unittest
 import actionlib
 import rospy
 import rostest
+
+import graph_helpers
 from actionlib_msgs.msg import GoalStatus
 from valerant.msg import ExploreAction, ExploreGoal
 
@@ -33,6 +35,7 @@ class PreemptTest(unittest.TestCase):
             self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
         with open(os.path.join(out, "decisions.jsonl")) as f:
             self.assertEqual(len(f.readlines()), result.steps)
+        self.assertEqual(graph_helpers.dead_graph_nodes(), [])
 
 
 if __name__ == "__main__":

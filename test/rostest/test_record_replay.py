@@ -30,6 +30,11 @@ def launch(name, args, log):
     with open(log, "w") as out:
         subprocess.run(["roslaunch", "-p", str(port), "valerant", name] + list(args), env=env, stdout=out,
                        stderr=subprocess.STDOUT, timeout=TIMEOUT_S, check=True)
+    # Every node must live to the end: a node that died (map_fusion at 160x120 did)
+    # leaves the decisions intact, so they alone would not show it.
+    deaths = graph_helpers.node_deaths(log)
+    if deaths:
+        raise AssertionError("%s: %s (see %s)" % (name, "; ".join(deaths), log))
 
 
 class RecordReplayTest(unittest.TestCase):

@@ -42,6 +42,7 @@ class RewindTest(unittest.TestCase):
         graph = graph_helpers.decisions(os.path.join(out, "graph", "decisions.jsonl"))
         in_process = graph_helpers.run_valerant_explore(BUDGET, os.path.join(out, "in_process"))
         self.assertEqual(graph, in_process)
+        self.assertEqual(graph_helpers.dead_graph_nodes(), [])
 
 
 if __name__ == "__main__":

@@ -264,6 +264,27 @@ TEST(LiveMap, ExtendsLikeARebuildAndRewindsCleanly) {
   expectSameProducts(live, rebuilt, f);
 }
 
+TEST(LiveMap, KeyframesWithoutPointsLeaveAnEmptyMap) {
+  // map_fusion's first update at 160 x 120 carries keyframes whose clouds are empty;
+  // OctoMap's ColorOcTree crashed updating the inner nodes of a tree with no root.
+  const LiveMapSetup f;
+  LiveMap live(f.map, f.collision, f.grid(), 1.0);
+  auto empty = std::make_shared<FusedKeyframe>();
+  empty->id = newKeyframeId();
+  empty->camera_to_map = Eigen::Isometry3d::Identity();
+  std::vector<std::shared_ptr<const FusedKeyframe>> episode{empty};
+  EXPECT_EQ(live.update(episode), 1u);
+  EXPECT_EQ(live.octree().size(), 0u);
+  EXPECT_TRUE(live.voxelCloud().empty());
+  MapFusion rebuilt(f.map, f.collision);
+  rebuilt.add(empty);
+  EXPECT_EQ(rebuilt.octree(0.2)->size(), 0u);
+  // Points arriving later still go in.
+  episode.push_back(strip(1.0f));
+  EXPECT_EQ(live.update(episode), 1u);
+  EXPECT_GT(occupiedLeaves(live.octree()), 0u);
+}
+
 TEST(LiveMap, KeyframeIdsAreNeverReused) {
   const uint64_t a = newKeyframeId(), b = newKeyframeId();
   EXPECT_NE(a, b);

@@ -5,6 +5,7 @@
 //   VoxelCloudBuilder  voxel-averaged cloud: position, colour, confidence and height
 //                      averaged per cube of the voxel size, any extent
 //   insertKeyframe     OctoMap occupancy by ray casting from the keyframe's camera centre
+//   updateInnerNodes   inner nodes brought up to date after insertions (empty trees too)
 //   FloorGridBuilder   2D floor/obstacle grid on the exploration grid's floor plane
 #include <Eigen/Core>
 #include <unordered_map>
@@ -47,6 +48,11 @@ class VoxelCloudBuilder {
 // Rays from the keyframe's camera centre to each of its points, up to `max_range`,
 // then the points' colours averaged into their leaves.
 void insertKeyframe(octomap::ColorOcTree& tree, const FusedKeyframe& keyframe, double max_range);
+
+// Propagates occupancy and colour to the inner nodes. Safe on an empty tree, which
+// ColorOcTree::updateInnerOccupancy is not (OctoMap 1.9 dereferences the null root:
+// map_fusion died on the empty keyframe clouds of its first update at 160 x 120).
+void updateInnerNodes(octomap::ColorOcTree& tree);
 
 // Floor (|h| < eta_low) and body-level obstacles (eta_low <= h <= eta_high) on the
 // floor plane of `grid`'s anchor, over the same extent; obstacles win over floor.
