@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -221,6 +222,10 @@ Config parseConfig(const std::string& yaml_text, const std::string& source) {
   slam.number("oracle_keyframe_every", c.slam.oracle_keyframe_every, 1, 10000);
   slam.number("cloud_stride_px", c.slam.cloud_stride_px, 1, 64);
   slam.number("oracle_confidence", c.slam.oracle_confidence, 0.0, 1e6);
+  slam.choice("depth_prior", c.slam.depth_prior, {"none", "learned"});
+  slam.string("depth_prior_model", c.slam.depth_prior_model);
+  slam.number("depth_prior_width", c.slam.depth_prior_width, 8, 4096);
+  slam.number("depth_prior_height", c.slam.depth_prior_height, 8, 4096);
   slam.finish();
   Section exports = top.child("exports");
   exports.number("units_per_metre", c.exports.units_per_metre, 1e-6, 1e6);
@@ -258,7 +263,12 @@ Config loadConfig(const std::string& path) {
 
 std::string defaultConfigPath() {
   if (const char* env = std::getenv("VALERANT_CONFIG"); env && *env) return env;
-  return std::string(VALERANT_SOURCE_DIR) + "/config/valerant.yaml";
+  return sourceTreePath("config/valerant.yaml");
+}
+
+std::string sourceTreePath(const std::string& path) {
+  if (std::filesystem::path(path).is_absolute()) return path;
+  return (std::filesystem::path(VALERANT_SOURCE_DIR) / path).string();
 }
 
 }  // namespace valerant

@@ -11,6 +11,9 @@
 //     whether the decisions agree (bench/bench_graph.cpp)
 //   valerant_bench map --run DIR [--updates 15]
 //     cost of the live map products as a finished run's map grows (bench/bench_map.cpp)
+//   valerant_bench depth --maps oa_dm1,oa_dm2 [--spawns 2] [--model FILE] [--config FILE]
+//     the learned depth prior's accuracy against the engine's depth and its time per
+//     frame on one thread, next to the visual SLAM's plane-sweep depth (bench/bench_depth.cpp)
 #include <iostream>
 
 #include "bench/bench.h"
@@ -20,7 +23,7 @@ using namespace valerant;
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 2) throw InputError("valerant_bench", "usage: valerant_bench render|slam|graph|map [options]");
+    if (argc < 2) throw InputError("valerant_bench", "usage: valerant_bench render|slam|graph|map|depth [options]");
     const std::string what = argv[1];
     nlohmann::json result;
     if (what == "render") {
@@ -31,8 +34,10 @@ int main(int argc, char** argv) {
       result = tools::benchGraph(argc - 1, argv + 1);
     } else if (what == "map") {
       result = tools::benchMap(argc - 1, argv + 1);
+    } else if (what == "depth") {
+      result = tools::benchDepth(argc - 1, argv + 1);
     } else {
-      throw InputError("valerant_bench " + what, "unknown benchmark (known: render, slam, graph, map)");
+      throw InputError("valerant_bench " + what, "unknown benchmark (known: render, slam, graph, map, depth)");
     }
     std::cout << result.dump() << std::endl;
     return 0;

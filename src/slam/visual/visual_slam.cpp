@@ -11,6 +11,7 @@
 #include "valerant/slam/visual/local_bundle_adjustment.h"
 #include "valerant/slam/visual/pinhole.h"
 #include "valerant/slam/visual/plane_sweep.h"
+#include "valerant/slam/visual/prior_fusion.h"
 #include "valerant/slam/visual/pnp_tracker.h"
 #include "valerant/slam/visual/relocalizer.h"
 #include "valerant/slam/visual/rotation_model.h"
@@ -45,11 +46,13 @@ cv::Mat unknown(const cv::Size& size, float value) { return cv::Mat(size, CV_32F
 
 }  // namespace
 
-VisualSlam::VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config, const VisualSlamParams& params)
+VisualSlam::VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config, const VisualSlamParams& params,
+                       std::shared_ptr<const DepthPrior> prior)
     : intrinsics_(intrinsics),
       sweep_intrinsics_(visual::downsampled(intrinsics, std::max(1, params.sweep.downsample))),
       config_(config),
       params_(params),
+      prior_(std::move(prior)),
       state_(params.tracker) {
   if (intrinsics.width < 16 || intrinsics.height < 16 || !(intrinsics.fx > 0) || !(intrinsics.fy > 0))
     throw InputError("visual SLAM intrinsics", "need a positive focal length and an image of at least 16x16");
@@ -98,11 +101,13 @@ TrackedFrame VisualSlam::track(const SlamInput& input) {
   }
   out.camera_to_map = frame.pose;
   denseDepth(frame, out);
+  const bool view = prior_ && out.state != TrackingState::kLost && applyPrior(frame, out);
   if (frame.new_keyframe) {
     frame.new_keyframe->depth = out.depth.clone();  // the caller may write into out.depth
     frame.new_keyframe->confidence = out.confidence.clone();
   }
   if (!out.keyframe) s.tracker.detect(frame.gray, -1);
+  out.keyframe = out.keyframe || view;  // a cloud-only view is a keyframe to the caller
   s.rotating = out.rotation_only;
 
   FramePose record;
@@ -533,6 +538,45 @@ void VisualSlam::denseDepth(const Frame& frame, TrackedFrame& out) const {
   cv::resize(d.confidence, out.confidence, size, 0, 0, cv::INTER_NEAREST);
 }
 
+bool VisualSlam::applyPrior(const Frame& frame, TrackedFrame& out) {
+  State& s = state_;
+  // Turned far enough from the last cloud to make a cloud-only view?
+  bool turned = s.clouds.empty();
+  if (!turned) {
+    const CloudEntry& last = s.clouds.back();
+    const Eigen::Isometry3d& pose =
+        last.keyframe >= 0 ? s.map.keyframes[last.keyframe]->camera_to_map : last.view->camera_to_map;
+    turned = pose.linear().col(2).dot(frame.pose.linear().col(2)) < std::cos(params_.prior.view_angle_deg * M_PI / 180.0);
+  }
+  const bool untriangulated = out.rotation_only || s.mode != Mode::kMapped;
+  const bool view = !out.keyframe && untriangulated && turned;
+  const bool blind = cv::countNonZero(out.confidence > 0) == 0;  // a translation without sweep depth
+  if (!(out.keyframe || view || (blind && !out.rotation_only))) return false;
+
+  const DepthPrediction p = prior_->predict(frame.rgb).resized(frame.rgb.size());
+  const visual::PriorFusionParams& fusion = params_.prior.fusion;
+  if (const auto scale = visual::priorScale(out.depth, out.confidence, p.depth_m, fusion)) s.map_per_metre = *scale;
+  if (!(s.map_per_metre > 0)) {
+    // Before the sweep has measured the scale: the map's convention, median scene depth
+    // s.median_depth (1 for a new map), applied to the prior's median.
+    std::vector<double> metres;
+    for (auto it = p.depth_m.begin<float>(); it != p.depth_m.end<float>(); ++it)
+      if (*it > 0 && *it <= fusion.max_depth_m) metres.push_back(*it);
+    if (metres.empty()) return false;
+    s.map_per_metre = s.median_depth / quantile(metres, 0.5);
+  }
+  visual::fusePrior(out.depth, out.confidence, p.depth_m, p.log_scale, s.map_per_metre, fusion);
+  if (!view) return false;
+  auto v = std::make_shared<CloudView>();
+  v->frame = frame.index;
+  v->camera_to_map = frame.pose;
+  v->rgb = frame.rgb;
+  v->depth = out.depth.clone();  // the caller may write into out.depth
+  v->confidence = out.confidence.clone();
+  s.clouds.push_back({-1, std::move(v)});
+  return true;
+}
+
 void VisualSlam::updateSceneDepth(const Eigen::Isometry3d& pose, const std::vector<int>& point_ids) {
   State& s = state_;
   const Eigen::Isometry3d map_to_camera = pose.inverse();
@@ -557,6 +601,7 @@ std::shared_ptr<KeyframeImages> VisualSlam::addKeyframe(const cv::Mat& rgb, cons
   kf->index = static_cast<int>(state_.map.keyframes.size());
   kf->camera_to_map = pose;
   kf->images = images;
+  state_.clouds.push_back({kf->index, nullptr});
   state_.map.keyframes.push_back(std::move(kf));
   return images;
 }
@@ -590,10 +635,18 @@ void VisualSlam::restore(const std::shared_ptr<const SlamState>& state) {
 
 std::vector<KeyframeCloud> VisualSlam::keyframeClouds(int first) const {
   std::vector<KeyframeCloud> out;
-  for (size_t i = std::max(first, 0); i < state_.map.keyframes.size(); ++i) {
-    const visual::Keyframe& kf = *state_.map.keyframes[i];
+  for (size_t i = std::max(first, 0); i < state_.clouds.size(); ++i) {
     KeyframeCloud cloud;
-    cloud.keyframe = kf.index;
+    cloud.keyframe = static_cast<int>(i);
+    if (const auto& view = state_.clouds[i].view) {
+      cloud.frame = view->frame;
+      cloud.camera_to_map = view->camera_to_map;
+      cloud.points = backProject(view->rgb, view->depth, view->confidence, intrinsics_, view->camera_to_map,
+                                 params_.sweep.downsample);
+      out.push_back(std::move(cloud));
+      continue;
+    }
+    const visual::Keyframe& kf = *state_.map.keyframes[state_.clouds[i].keyframe];
     cloud.frame = kf.images->frame;
     cloud.camera_to_map = kf.camera_to_map;
     // Every depth the plane sweep estimated, once: the sweep runs at 1/downsample

@@ -9,6 +9,7 @@ nlohmann::json benchRender(int argc, char** argv);
 nlohmann::json benchSlam(int argc, char** argv);
 nlohmann::json benchGraph(int argc, char** argv);
 nlohmann::json benchMap(int argc, char** argv);
+nlohmann::json benchDepth(int argc, char** argv);
 
 // Peak resident memory of this process so far.
 double peakResidentMiB();

@@ -15,6 +15,12 @@
 //      new map is started, so a drop down a ledge keeps the map and its scale.
 //   5. Dense depth for every frame by plane sweep against nearby keyframes
 //      (plane_sweep.h documents the confidence and its 4.0 cut).
+//   6. With a learned depth prior (slam.depth_prior): its metric depth fills what the
+//      sweep cannot see (prior_fusion.h) on keyframes and on frames without sweep
+//      depth, and frames the sweep cannot triangulate (turning in place, before the
+//      map starts) add cloud-only views every DepthPriorParams::view_angle_deg, so the
+//      floor, both collision tests, coverage and the map see walls seen while turning.
+//      keyframeClouds() lists keyframes and cloud-only views in the order they came.
 // Scale is arbitrary: the first map has median scene depth 1; a map restarted after a
 // rotation without shared points keeps the last median scene depth (a prior, since
 // monocular scale cannot be observed across a view change without shared points).
@@ -28,6 +34,7 @@
 #include <vector>
 
 #include "valerant/config/config.h"
+#include "valerant/slam/depth_prior.h"
 #include "valerant/slam/slam.h"
 #include "valerant/slam/visual/feature_tracker.h"
 #include "valerant/slam/visual/slam_map.h"
@@ -38,7 +45,9 @@ namespace valerant {
 
 class VisualSlam : public Slam {
  public:
-  VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config, const VisualSlamParams& params = {});
+  // `prior`: the learned depth prior, shared by every branch; nullptr = none.
+  VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config, const VisualSlamParams& params = {},
+             std::shared_ptr<const DepthPrior> prior = nullptr);
 
   // Throws InputError for a frame that is not CV_8UC3 of the intrinsics' size.
   TrackedFrame track(const SlamInput& input) override;
@@ -46,7 +55,7 @@ class VisualSlam : public Slam {
   std::shared_ptr<const SlamState> snapshot() const override;
   void restore(const std::shared_ptr<const SlamState>& state) override;
   std::vector<KeyframeCloud> keyframeClouds(int first = 0) const override;
-  int keyframeCount() const override { return static_cast<int>(state_.map.keyframes.size()); }
+  int keyframeCount() const override { return static_cast<int>(state_.clouds.size()); }
   std::vector<Eigen::Isometry3d> trajectory() const override;
   CameraIntrinsics intrinsics() const override { return intrinsics_; }
 
@@ -71,6 +80,17 @@ class VisualSlam : public Slam {
     int keyframe = -1;
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   };
+  // A view that contributes a cloud only (no tracking, no bundle adjustment).
+  struct CloudView {
+    int frame = 0;
+    Eigen::Isometry3d camera_to_map = Eigen::Isometry3d::Identity();
+    cv::Mat rgb, depth, confidence;
+  };
+  // One entry of keyframeClouds(): a keyframe (index into map.keyframes) or a view.
+  struct CloudEntry {
+    int keyframe = -1;
+    std::shared_ptr<const CloudView> view;
+  };
   struct State : SlamState {
     explicit State(const FeatureTrackerParams& p) : tracker(p) {}
     visual::FeatureTracker tracker;
@@ -86,6 +106,8 @@ class VisualSlam : public Slam {
     int inliers_at_keyframe = 0;
     double median_depth = 1.0;      // of the map points seen last (map units)
     double near_depth = 0.3;        // 2nd percentile of the same
+    double map_per_metre = 0;       // the prior's scale (prior_fusion.h); 0 = not yet known
+    std::vector<CloudEntry> clouds;
   };
   // Work of one track() call.
   struct Frame {
@@ -107,6 +129,9 @@ class VisualSlam : public Slam {
   bool relocalize(Frame& frame, TrackedFrame& out);
   void bundleAdjust(Frame& frame);
   void denseDepth(const Frame& frame, TrackedFrame& out) const;
+  // Fuses the prior into `out` where it is needed; true when the frame became a
+  // cloud-only view.
+  bool applyPrior(const Frame& frame, TrackedFrame& out);
   void updateSceneDepth(const Eigen::Isometry3d& pose, const std::vector<int>& point_ids);
   std::shared_ptr<visual::KeyframeImages> addKeyframe(const cv::Mat& rgb, const cv::Mat& sweep, int frame_index,
                                                       const Eigen::Isometry3d& pose);
@@ -119,6 +144,7 @@ class VisualSlam : public Slam {
   CameraIntrinsics sweep_intrinsics_;
   SlamConfig config_;
   VisualSlamParams params_;
+  std::shared_ptr<const DepthPrior> prior_;
   State state_;
 };
 

@@ -4,6 +4,8 @@
 // 320x240 with a 90 deg horizontal field of view; pixel values are at that size.
 #include <cstdint>
 
+#include "valerant/slam/visual/prior_fusion.h"
+
 namespace valerant {
 
 struct FeatureTrackerParams {
@@ -84,6 +86,15 @@ struct RelocalizerParams {
   int min_inliers = 30;       // PnP inliers to accept a relocalisation
 };
 
+// Use of the learned depth prior (slam.depth_prior: learned), prior_fusion.h.
+struct DepthPriorParams {
+  visual::PriorFusionParams fusion;
+  // A frame the sweep cannot triangulate (turning in place, before the map starts)
+  // becomes a cloud-only view when its optical axis has turned this far from the last
+  // cloud's: a 90 deg field of view seen every 20 deg overlaps by 78 %.
+  double view_angle_deg = 20.0;
+};
+
 struct VisualSlamParams {
   FeatureTrackerParams tracker;
   TwoViewParams two_view;
@@ -92,6 +103,7 @@ struct VisualSlamParams {
   BundleAdjustmentParams bundle_adjustment;
   PlaneSweepParams sweep;
   RelocalizerParams relocalizer;
+  DepthPriorParams prior;
   uint64_t seed = 0;  // seeds every RANSAC call (together with the frame index)
 };
 

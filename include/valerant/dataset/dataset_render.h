@@ -1,0 +1,30 @@
+#pragma once
+// Renders one map's dataset sequences (dataset_sequences.h) with ground truth: moves
+// the camera as the engine world does (camera_kinematics.h) and renders only the
+// frames it keeps. A sequence ends at its first frame whose player hull is inside
+// solid brushes unless `keep_in_solid` (depth there would teach walls from inside).
+#include <functional>
+
+#include "valerant/dataset/dataset_sequences.h"
+#include "valerant/dataset/shard_writer.h"
+#include "valerant/world/quake3/quake3_map.h"
+
+namespace cv {
+class Mat;
+}
+
+namespace valerant::dataset {
+
+using FrameSink = std::function<void(const FrameRecord&, const cv::Mat& rgb, const cv::Mat& depth_m)>;
+
+struct MapRenderStats {
+  int sequences = 0, frames = 0, in_solid_stops = 0;
+};
+
+// `config.world.width/height/fov_x_deg` set the frame size. Throws InputError naming
+// the map when it has no spawn with a floor under it.
+MapRenderStats renderMapDataset(const quake3::Quake3Map& map, const std::string& map_name, const Config& config,
+                                const SamplingParams& params, uint64_t seed, bool keep_in_solid, int first_sequence,
+                                const FrameSink& sink);
+
+}  // namespace valerant::dataset

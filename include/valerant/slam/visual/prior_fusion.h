@@ -1,0 +1,36 @@
+#pragma once
+// How the visual SLAM uses the learned depth prior (depth_prior.h). Triangulation is
+// blind where exploration needs sight: turning in place (no parallax), at start-up
+// (one standing frame), on sky and flat walls. The prior is metric and per frame, the
+// plane sweep in map units and only where it has parallax; fusing them per pixel:
+//   1. Scale: map units per metre = median over pixels where the sweep is confident
+//      (>= min_confidence) of sweep depth / prior depth; with too few such pixels the
+//      last scale is kept (the SLAM's map scale changes slowly).
+//   2. Confidence of a prior pixel = gain / b, b the predicted Laplace scale of its ln
+//      depth error (b = 0.15, about 15 % expected error, gives 4.0 at gain 0.6: the
+//      paper's cut), capped at max_confidence. Pixels beyond max_depth_m (sky is
+//      trained as 80 m) get none.
+//   3. Per pixel the more confident estimate wins; both are then in map units.
+#include <opencv2/core.hpp>
+#include <optional>
+
+namespace valerant::visual {
+
+struct PriorFusionParams {
+  double confidence_gain = 0.6;
+  double max_confidence = 20.0;
+  double max_depth_m = 40.0;
+  double min_confidence = 4.0;   // sweep pixels trusted for the scale
+  int min_scale_pixels = 200;    // fewer: keep the last scale
+};
+
+// Map units per metre from the pixels where both exist, or nullopt with too few.
+std::optional<double> priorScale(const cv::Mat& sweep_depth, const cv::Mat& sweep_confidence, const cv::Mat& prior_m,
+                                 const PriorFusionParams& params);
+
+// Fuses in place: `depth` (map units, NaN = unknown) and `confidence` take the prior's
+// value, times `map_per_metre`, wherever it is more confident. All CV_32F, one size.
+void fusePrior(cv::Mat& depth, cv::Mat& confidence, const cv::Mat& prior_m, const cv::Mat& prior_log_scale,
+               double map_per_metre, const PriorFusionParams& params);
+
+}  // namespace valerant::visual

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# The depth prior's training run on the GPU host (the `device` tool). One call carries
+# at most 64 MiB and runs at most 10 minutes, so the shards travel in parts and the
+# training outlives a call: each call stages the shards it carries under $VDATA
+# (outside the working tree; kept while the machine stays warm), `start` trains in the
+# background and waits as long as a call may, `collect` waits for the end and copies
+# the results to $OUT/run.
+#   learn/gpu_train.sh stage             copy the carried data/*/*.zip to $VDATA
+#   learn/gpu_train.sh start MINUTES     stage, then train for MINUTES (in the background)
+#   learn/gpu_train.sh collect           wait for the training, copy its files to $OUT/run
+set -euo pipefail
+cd "$(dirname "$0")/.."
+VDATA=${VDATA:-/root/vdata}
+RUN=${RUN:-/root/depth_run}
+mode=${1:-stage}
+wait_for_training() {  # at most $1 seconds
+  local deadline=$((SECONDS + $1))
+  while [ ! -f "$RUN.done" ] && [ $SECONDS -lt $deadline ] && pgrep -f learn/train_depth.py > /dev/null; do sleep 5; done
+  tail -n 30 "$RUN.log"
+}
+if [ "$mode" = collect ]; then
+  wait_for_training 540
+  [ -f "$RUN.done" ] || { echo "training still running"; exit 3; }
+  mkdir -p "$OUT/run"
+  cp "$RUN"/log.csv "$RUN"/metrics.json "$RUN"/curves.png "$RUN"/samples.png "$RUN"/depth_prior.onnx "$OUT/run/"
+  cp "$RUN.log" "$OUT/train.log"
+  exit "$(cat "$RUN.done")"
+fi
+mkdir -p "$VDATA/train" "$VDATA/eval"
+for f in data/train_*/*.zip; do [ -f "$f" ] && cp "$f" "$VDATA/train/$(basename "$(dirname "$f")")_$(basename "$f")"; done
+for f in data/eval/*.zip; do [ -f "$f" ] && cp "$f" "$VDATA/eval/"; done
+echo "staged: $(ls "$VDATA/train" | wc -l) training shards, $(ls "$VDATA/eval" | wc -l) evaluation shards"
+du -sh "$VDATA/train" "$VDATA/eval"
+python3 -c 'import torch, cv2, onnx; print("torch", torch.__version__, "cuda", torch.cuda.is_available(), torch.cuda.get_device_name(0) if torch.cuda.is_available() else "-", "cv2", cv2.__version__, "onnx", onnx.__version__)'
+[ "$mode" = start ] || exit 0
+rm -rf "$RUN" "$RUN.done"
+# setsid: the training must outlive this call's process group.
+setsid bash -c 'PYTHONUNBUFFERED=1 python3 learn/train_depth.py --train "$2/train/*.zip" --val "$2/eval/*.zip" --out "$1" \
+   --minutes "$0" --batch 256 --workers 16 --seed 0 --device cuda > "$1.log" 2>&1; echo $? > "$1.done"' \
+  "${2:-12}" "$RUN" "$VDATA" < /dev/null &
+sleep 5
+wait_for_training 560

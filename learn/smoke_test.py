@@ -1,0 +1,333 @@
+#!/usr/bin/env python3
+"""CPU smoke test of the depth-prior training code (one core, well under 90 s).
+
+Unit tests (log16 coding, metrics, loss, shard checks) and an end-to-end run of
+train_depth.py on two tiny synthetic shards of different maps, whose ONNX output
+must load in cv2.dnn and match torch.
+
+  smoke_test.py [--xml PATH]   # PATH: JUnit XML for scripts/count_test_results"""
+import argparse
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+import xml.etree.ElementTree as ET
+import zipfile
+
+import cv2
+import numpy as np
+import torch
+
+import train_depth
+from valerant_learn.depth_net import DepthNet
+from valerant_learn.log16 import decode_log16, encode_log16
+from valerant_learn.losses import laplace_nll
+from valerant_learn.metrics import frame_metrics
+from valerant_learn.onnx_export import verify_with_opencv
+from valerant_learn.shards import load_shards, write_shard
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+WIDTH, HEIGHT = 128, 96
+EYE_HEIGHT_M = 1.5625
+# 90 degrees horizontal field of view, square pixels, centred principal point.
+CAMERA = {"fx": 64.0, "fy": 64.0, "cx": 63.5, "cy": 47.5, "depth_min_m": 0.05, "depth_max_m": 200.0,
+          "seed": 0, "units_per_metre": 32, "eye_height_m": EYE_HEIGHT_M}
+TRAIN_MAP, VAL_MAP = "synth_train", "synth_val"
+
+
+def synthetic_frame(rng):
+    """A level camera at eye height over a checkered floor, facing a striped wall
+    at a random distance and of random height, sky above it. Floor depth follows
+    from the fixed eye height: z = h * fy / (v - cy)."""
+    u = np.arange(WIDTH)[None, :] - CAMERA["cx"]
+    v = np.arange(HEIGHT)[:, None] - CAMERA["cy"]
+    down = np.broadcast_to(v / CAMERA["fy"], (HEIGHT, WIDTH))
+    right = np.broadcast_to(u / CAMERA["fx"], (HEIGHT, WIDTH))
+    wall_m, wall_height_m = rng.uniform(4, 30), rng.uniform(1, 8)
+    with np.errstate(divide="ignore"):
+        floor = np.where(down > 0, EYE_HEIGHT_M / down, np.inf)
+    on_wall = (down * wall_m <= EYE_HEIGHT_M) & (EYE_HEIGHT_M - down * wall_m <= wall_height_m)
+    depth = np.minimum(floor, np.where(on_wall, wall_m, np.inf))
+    sky = ~np.isfinite(depth)
+    depth = np.where(sky, np.nan, depth)
+    x = right * np.where(sky, 0, depth)
+    checker = (np.floor(x) + np.floor(np.where(sky, 0, depth))) % 2
+    stripes = np.floor(x * 2) % 2
+    floor_colour, wall_colour = rng.uniform(0.2, 0.9, 3), rng.uniform(0.2, 0.9, 3)
+    rgb = np.where((depth < floor - 1e-6)[..., None], wall_colour * (0.7 + 0.3 * stripes[..., None]),
+                   floor_colour * (0.6 + 0.4 * checker[..., None]))
+    rgb = np.where(sky[..., None], np.array([0.5, 0.7, 1.0]), rgb)
+    return (rgb * 255).astype(np.uint8), depth.astype(np.float32)
+
+
+def synthetic_shard(path, map_name, count, seed):
+    rng = np.random.default_rng(seed)
+    frames, rgbs, depths = [], [], []
+    for index in range(count):
+        rgb, depth = synthetic_frame(rng)
+        rgbs.append(rgb)
+        depths.append(depth)
+        kind = ("rollout", "rotate", "walk")[index % 3]
+        frames.append({"map": map_name, "spawn": 0, "sequence": index // 4, "step": index % 4, "kind": kind,
+                       "key": "" if index % 4 == 0 else {"rollout": "w", "rotate": "l", "walk": "jw"}[kind],
+                       "x": 0.5 * index, "y": 0.0, "z": EYE_HEIGHT_M, "yaw_deg": 10.0 * index,
+                       "pitch_deg": 0.0, "in_solid": 0})
+    write_shard(path, np.stack(rgbs), np.stack(depths), frames, CAMERA)
+
+
+def rewrite_zip(source, target, changes):
+    """Copies a zip, replacing entries by changes[name] (bytes) or dropping them (None)."""
+    with zipfile.ZipFile(source) as old, zipfile.ZipFile(target, "w") as new:
+        for name in old.namelist():
+            data = changes.get(name, old.read(name))
+            if data is not None:
+                new.writestr(name, data)
+
+
+def setUpModule():
+    global WORK, TRAIN_SHARD, VAL_SHARD
+    WORK = tempfile.mkdtemp(prefix="valerant_learn_smoke_")
+    TRAIN_SHARD = os.path.join(WORK, "train.zip")
+    VAL_SHARD = os.path.join(WORK, "val.zip")
+    synthetic_shard(TRAIN_SHARD, TRAIN_MAP, 24, seed=1)
+    synthetic_shard(VAL_SHARD, VAL_MAP, 8, seed=2)
+
+
+def tearDownModule():
+    shutil.rmtree(WORK, ignore_errors=True)
+
+
+class Log16Test(unittest.TestCase):
+    def test_hand_computed_codes(self):
+        decoded = decode_log16(np.array([0, 1, 65535], np.uint16), 0.05, 200.0)
+        self.assertTrue(math.isnan(decoded[0]))
+        self.assertAlmostEqual(float(decoded[1]), 0.05, places=6)
+        self.assertAlmostEqual(float(decoded[2]), 200.0, places=3)
+        # 1 m: 1 + ln(1/0.05) / ln(200/0.05) * 65534 = 1 + 2.995732 / 8.294050 * 65534 = 23671.26
+        self.assertEqual(int(encode_log16(np.array([1.0]), 0.05, 200.0)[0]), 23671)
+
+    def test_round_trip_within_half_a_code(self):
+        depth = np.array([0.05, 0.1, 0.7, 1.0, 3.3, 12.0, 80.0, 199.0, 200.0])
+        back = decode_log16(encode_log16(depth, 0.05, 200.0), 0.05, 200.0)
+        half_step = math.log(4000.0) / 65534 / 2
+        self.assertLessEqual(np.abs(np.log(back) - np.log(depth)).max(), half_step * 1.01)
+
+    def test_sky_and_clipping(self):
+        codes = encode_log16(np.array([np.nan, np.inf, 0.0, 0.01, 500.0]), 0.05, 200.0)
+        self.assertEqual(codes.tolist(), [0, 0, 0, 1, 65535])
+
+
+class MetricsTest(unittest.TestCase):
+    def test_hand_worked_example(self):
+        figures = frame_metrics(np.array([[[1.0, 2.0]]]), np.array([[[1.0, 4.0]]]))
+        self.assertAlmostEqual(figures["abs_rel"][0], 0.25)    # (0/1 + 2/4) / 2
+        self.assertAlmostEqual(figures["delta1"][0], 0.5)      # 1 < 1.25, 2 is not
+        self.assertAlmostEqual(figures["rmse_log"][0], math.log(2) / math.sqrt(2))
+
+    def test_sky_left_out_and_depth_clipped(self):
+        figures = frame_metrics(np.array([[[80.0, 5.0]], [[1.0, 1.0]]]),
+                                np.array([[[100.0, np.nan]], [[np.nan, np.nan]]]))
+        self.assertAlmostEqual(figures["abs_rel"][0], 0.0)     # 100 m is clipped to 80 m
+        self.assertEqual(figures["pixels"].tolist(), [1.0, 0.0])
+        self.assertTrue(math.isnan(figures["abs_rel"][1]))
+
+
+class LossTest(unittest.TestCase):
+    def test_hand_worked_laplace_nll(self):
+        output = torch.zeros(1, 2, 1, 2)
+        output[0, 0] = math.log(2.0)          # predicts 2 m everywhere
+        output[0, 1, 0, 1] = math.log(2.0)    # b = 2 at the second pixel
+        depth = torch.tensor([[[1.0, float("nan")]]])  # 1 m, then sky (80 m)
+        # pixel 1: |ln 2 - ln 1| / 1 + 0 = 0.693147
+        # pixel 2: |ln 2 - ln 80| / 2 + ln 2 = 3.688879 / 2 + 0.693147 = 2.537587
+        self.assertAlmostEqual(float(laplace_nll(output, depth)), (0.693147 + 2.537587) / 2, places=5)
+
+    def test_floor_scene_loss_decreases(self):
+        torch.manual_seed(0)
+        data = load_shards([TRAIN_SHARD])
+        rgb = train_depth.as_input(torch.from_numpy(data["rgb"][:8]))
+        depth = torch.from_numpy(data["depth"][:8])
+        model = DepthNet(HEIGHT, WIDTH)
+        optimizer = torch.optim.AdamW(model.parameters(), lr=3e-3)
+        losses = []
+        for _ in range(8):
+            loss = laplace_nll(model(rgb), depth)
+            optimizer.zero_grad()
+            loss.backward()
+            optimizer.step()
+            losses.append(float(loss))
+        self.assertLess(losses[-1], 0.8 * losses[0], losses)
+
+
+class ShardTest(unittest.TestCase):
+    def test_round_trip(self):
+        data = load_shards([TRAIN_SHARD, VAL_SHARD])
+        self.assertEqual(data["rgb"].shape, (32, HEIGHT, WIDTH, 3))
+        self.assertEqual(data["rgb"].dtype, np.uint8)
+        self.assertEqual(data["depth"].dtype, np.float32)
+        self.assertEqual(data["meta"]["maps"], [TRAIN_MAP, VAL_MAP])
+        self.assertEqual(data["kind"][:3].tolist(), ["rollout", "rotate", "walk"])
+        self.assertEqual(data["key"][:2].tolist(), ["", "l"])
+        rng = np.random.default_rng(1)
+        rgb, depth = synthetic_frame(rng)
+        self.assertTrue(np.array_equal(np.isnan(data["depth"][0]), np.isnan(depth)))
+        known = ~np.isnan(depth)
+        self.assertLess(np.abs(np.log(data["depth"][0][known] / depth[known])).max(), 1e-4)
+        # JPEG blurs the sharp synthetic edges; swapped red and blue would be ~45 off.
+        self.assertLess(np.abs(data["rgb"][0].astype(int) - rgb).mean(), 8)
+
+    def assert_rejected(self, changes, *words):
+        bad = os.path.join(WORK, "bad.zip")
+        rewrite_zip(VAL_SHARD, bad, changes)
+        with self.assertRaises(ValueError) as caught:
+            load_shards([bad])
+        for word in (bad,) + words:
+            self.assertIn(word, str(caught.exception))
+
+    def test_missing_entry(self):
+        self.assert_rejected({"depth/000003.png": None}, "missing entry depth/000003.png")
+
+    def test_unknown_format(self):
+        meta = json.loads(zipfile.ZipFile(VAL_SHARD).read("meta.json"))
+        meta["format"] = "valerant-dataset-0"
+        self.assert_rejected({"meta.json": json.dumps(meta)}, "unknown format", "valerant-dataset-0")
+
+    def test_wrong_size(self):
+        meta = json.loads(zipfile.ZipFile(VAL_SHARD).read("meta.json"))
+        meta["width"] = 64
+        self.assert_rejected({"meta.json": json.dumps(meta)}, "rgb/000000.jpg", "128x96", "64x96")
+
+    def test_eight_bit_depth(self):
+        png = cv2.imencode(".png", np.zeros((HEIGHT, WIDTH), np.uint8))[1].tobytes()
+        self.assert_rejected({"depth/000002.png": png}, "depth/000002.png", "16-bit")
+
+    def test_bad_header_and_unknown_kind(self):
+        csv_text = zipfile.ZipFile(VAL_SHARD).read("frames.csv").decode()
+        self.assert_rejected({"frames.csv": csv_text.replace("yaw_deg", "yaw")}, "header")
+        self.assert_rejected({"frames.csv": csv_text.replace("rotate", "spin", 1)}, "line 3", "unknown kind 'spin'")
+
+    def test_not_a_shard(self):
+        for path, words in ((os.path.join(WORK, "absent.zip"), "no such shard"),
+                            (os.path.join(HERE, "smoke_test.py"), "not a zip file")):
+            with self.assertRaises(ValueError) as caught:
+                load_shards([path])
+            self.assertIn(path, str(caught.exception))
+            self.assertIn(words, str(caught.exception))
+
+
+class TrainDepthTest(unittest.TestCase):
+    def run_main_expecting_error(self, argv):
+        with self.assertRaises(SystemExit) as caught:
+            train_depth.main(argv + ["--out", os.path.join(WORK, "never"), "--steps", "1"])
+        self.assertIsInstance(caught.exception.code, str)
+        return caught.exception.code
+
+    def test_rejects_missing_shard(self):
+        message = self.run_main_expecting_error(["--train", os.path.join(WORK, "nope*.zip"), "--val", VAL_SHARD])
+        self.assertIn("no such shard", message)
+
+    def test_rejects_val_maps_in_train(self):
+        message = self.run_main_expecting_error(["--train", TRAIN_SHARD, "--val", VAL_SHARD, TRAIN_SHARD])
+        self.assertIn("val maps overlap train maps: " + TRAIN_MAP, message)
+
+    def test_end_to_end_on_cpu(self):
+        out = os.path.join(WORK, "run")
+        env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")
+        command = [sys.executable, os.path.join(HERE, "train_depth.py"), "--train", TRAIN_SHARD,
+                   "--val", VAL_SHARD, "--out", out, "--steps", "5", "--batch", "4", "--eval-every", "3",
+                   "--device", "cpu", "--workers", "1"]
+        run = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             universal_newlines=True, timeout=120)
+        self.assertEqual(run.returncode, 0, run.stdout)
+        for name in ("log.csv", "depth_prior.pt", "depth_prior.onnx", "metrics.json", "curves.png", "samples.png"):
+            self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
+        with open(os.path.join(out, "metrics.json")) as handle:
+            metrics = json.load(handle)
+        for key in ("val", "train_subset", "parameters", "flops_per_frame", "train_seconds", "device",
+                    "torch_version", "seed", "command_line", "train_frames", "val_frames", "train_maps",
+                    "val_maps", "onnx_sha256"):
+            self.assertIn(key, metrics)
+        self.assertEqual(set(metrics["val"]), {"all", "rotate", "per_map"})
+        self.assertEqual(metrics["val"]["all"]["frames"], 8)
+        self.assertEqual(list(metrics["val"]["per_map"]), [VAL_MAP])
+        self.assertEqual((metrics["train_frames"], metrics["train_maps"]), (24, [TRAIN_MAP]))
+        with open(os.path.join(out, "log.csv")) as handle:
+            self.assertEqual([line.split(",")[0] for line in handle.read().split()], ["step", "3", "5"])
+        # The exported file must run in cv2.dnn and agree with the saved torch weights.
+        checkpoint = torch.load(os.path.join(out, "depth_prior.pt"))
+        model = DepthNet(checkpoint["height"], checkpoint["width"])
+        model.load_state_dict(checkpoint["state_dict"])
+        rgb = train_depth.as_input(torch.from_numpy(load_shards([VAL_SHARD])["rgb"][:3])).contiguous().numpy()
+        report = verify_with_opencv(os.path.join(out, "depth_prior.onnx"), model, rgb)
+        self.assertLess(report["max_abs_diff_log_depth"], 1e-3)
+
+
+class JUnitResult(unittest.TextTestResult):
+    """Also records every test's outcome and time for the JUnit XML."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.cases = []
+
+    def startTest(self, test):
+        self.started = time.time()
+        super().startTest(test)
+
+    def record(self, test, problem=None):
+        # A setUpModule error comes without a test case; write_junit reports it.
+        if hasattr(test, "_testMethodName"):
+            self.cases.append((test, time.time() - self.started, problem))
+
+    def addSuccess(self, test):
+        super().addSuccess(test)
+        self.record(test)
+
+    def addFailure(self, test, err):
+        super().addFailure(test, err)
+        self.record(test, self.failures[-1][1])
+
+    def addError(self, test, err):
+        super().addError(test, err)
+        self.record(test, self.errors[-1][1])
+
+
+def write_junit(path, result, seconds):
+    failed = [case for case in result.cases if case[2] is not None]
+    module_errors = [(test, problem) for test, problem in result.errors if not hasattr(test, "_testMethodName")]
+    suite = ET.Element("testsuite", name="learn_smoke_test", tests=str(len(result.cases) + len(module_errors)),
+                       failures=str(len(failed) + len(module_errors)), errors="0", time="%.3f" % seconds)
+    for test, duration, problem in result.cases:
+        case = ET.SubElement(suite, "testcase", classname="learn.%s" % type(test).__name__,
+                             name=test._testMethodName, time="%.3f" % duration)
+        if problem is not None:
+            lines = problem.strip().splitlines()
+            failure = ET.SubElement(case, "failure", message=lines[-1] if lines else "failed")
+            failure.text = problem
+    for test, problem in module_errors:
+        case = ET.SubElement(suite, "testcase", classname="learn.smoke_test", name=str(test))
+        ET.SubElement(case, "failure", message=problem.strip().splitlines()[-1]).text = problem
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--xml", metavar="PATH", help="write JUnit XML here")
+    args = parser.parse_args()
+    torch.set_num_threads(1)
+    cv2.setNumThreads(1)
+    suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__])
+    start = time.time()
+    result = unittest.TextTestRunner(verbosity=2, resultclass=JUnitResult).run(suite)
+    if args.xml:
+        write_junit(args.xml, result, time.time() - start)
+    return 0 if result.wasSuccessful() else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,338 @@
+#!/usr/bin/env python3
+"""Trains the monocular depth prior on valerant_dataset shards and exports it for
+OpenCV's DNN module. Runs the same on CPU and CUDA (bf16 autocast there).
+
+  train_depth.py --train 'data/train/*.zip' --val 'data/val/*.zip' --out runs/depth --minutes 20
+
+Writes to --out: log.csv, depth_prior.pt (best weights by val AbsRel),
+depth_prior.onnx (verified in cv2.dnn), metrics.json, curves.png, samples.png."""
+import argparse
+import csv
+import glob
+import hashlib
+import json
+import math
+import os
+import platform
+import random
+import shlex
+import sys
+import time
+
+import numpy as np
+import torch
+
+from valerant_learn.augment import augment
+from valerant_learn.depth_net import DepthNet, count_macs, count_parameters
+from valerant_learn.losses import SKY_DEPTH_M, laplace_nll
+from valerant_learn.metrics import METRIC_MAX_M, METRIC_MIN_M, average, frame_metrics, summarize
+from valerant_learn.onnx_export import FORMAT_VERSION, export_onnx
+from valerant_learn.plots import plot_curves, plot_samples
+from valerant_learn.shards import check_same_camera, load_shards
+
+WEIGHT_DECAY = 0.01
+WARMUP_FRACTION = 0.03
+FINAL_LR_FRACTION = 0.01
+# The NLL's exp(-s) factor can make rare, very large gradients.
+GRAD_CLIP_NORM = 1.0
+EVAL_BATCH = 256
+TRAIN_EVAL_FRAMES = 1000
+SAMPLE_FRAMES = 4
+VERIFY_FRAMES = 8
+LOG_COLUMNS = ["step", "seconds", "train_loss", "val_abs_rel", "val_delta1"]
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--train", nargs="+", required=True, metavar="GLOB", help="training shards (zip)")
+    parser.add_argument("--val", nargs="+", required=True, metavar="GLOB",
+                        help="validation shards; their maps must not appear in --train")
+    parser.add_argument("--out", required=True, metavar="DIR", help="output folder (created)")
+    budget = parser.add_mutually_exclusive_group(required=True)
+    budget.add_argument("--minutes", type=float, help="wall-clock training budget")
+    budget.add_argument("--steps", type=int, help="number of optimiser steps")
+    parser.add_argument("--batch", type=int, default=512,
+                        help="frames a step (an H100 runs 512 about as fast as 128)")
+    parser.add_argument("--lr", type=float, default=2e-3, help="peak AdamW learning rate")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--device", choices=["auto", "cpu", "cuda"], default="auto")
+    parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
+    parser.add_argument("--workers", type=int, default=min(8, os.cpu_count() or 1),
+                        help="threads decoding the shards' images")
+    args = parser.parse_args(argv)
+    for name in ("steps", "batch", "eval_every", "workers"):
+        value = getattr(args, name)
+        if value is not None and value < 1:
+            parser.error("--%s must be at least 1" % name.replace("_", "-"))
+    if args.minutes is not None and not args.minutes > 0:
+        parser.error("--minutes must be positive")
+    if not args.lr > 0:
+        parser.error("--lr must be positive")
+    return args
+
+
+def expand_globs(patterns, option):
+    paths = []
+    for pattern in patterns:
+        matches = sorted(glob.glob(pattern))
+        if not matches:
+            raise ValueError("%s %s: no such shard" % (option, pattern))
+        paths.extend(path for path in matches if path not in paths)
+    return paths
+
+
+def load_split(args):
+    """Loads --train and --val; raises ValueError on anything that makes the
+    split unusable."""
+    train = load_shards(expand_globs(args.train, "--train"), args.workers)
+    val = load_shards(expand_globs(args.val, "--val"), args.workers)
+    shared = sorted(set(train["meta"]["maps"]) & set(val["meta"]["maps"]))
+    if shared:
+        raise ValueError("val maps overlap train maps: %s (val must measure maps the net never saw)"
+                         % ", ".join(shared))
+    check_same_camera("the train shards", train["meta"], "the val shards", val["meta"])
+    for option, data in (("--train", train), ("--val", val)):
+        if not np.isfinite(data["depth"]).any():
+            raise ValueError("%s shards hold no depth at all (every pixel is sky)" % option)
+    return train, val
+
+
+def pick_device(choice):
+    if choice == "auto":
+        choice = "cuda" if torch.cuda.is_available() else "cpu"
+    if choice == "cuda" and not torch.cuda.is_available():
+        raise ValueError("--device cuda, but torch sees no CUDA device")
+    return torch.device(choice)
+
+
+def device_name(device):
+    if device.type == "cuda":
+        return torch.cuda.get_device_name(device)
+    return "cpu (%s, %d threads)" % (platform.machine(), torch.get_num_threads())
+
+
+class Frames:
+    """One split on the training device: uint8 RGB and float depth, loaded once."""
+
+    def __init__(self, data, device):
+        self.rgb = torch.from_numpy(data["rgb"]).to(device)
+        self.depth = torch.from_numpy(data["depth"]).to(device)
+        self.kind, self.map, self.key = data["kind"], data["map"], data["key"]
+        self.meta = data["meta"]
+        self.count = len(self.kind)
+
+
+def as_input(rgb):
+    """uint8 [N,H,W,3] -> float [N,3,H,W] in [0,1]. The permuted view is already
+    channels_last in memory, which the convolutions prefer."""
+    return rgb.permute(0, 3, 1, 2).float().div(255).contiguous(memory_format=torch.channels_last)
+
+
+def batch_indices(count, batch, generator):
+    """Endless training batches: every frame once an epoch, a fresh order each epoch.
+    Drawn on the generator's device, so a CUDA run never waits for a host copy."""
+    device = generator.device
+    pending = torch.empty(0, dtype=torch.long, device=device)
+    while True:
+        while len(pending) < batch:
+            pending = torch.cat([pending, torch.randperm(count, generator=generator, device=device)])
+        yield pending[:batch]
+        pending = pending[batch:]
+
+
+def learning_rate(base, progress):
+    """One cycle over progress in [0,1]: linear warm-up from base/10, then cosine
+    decay to FINAL_LR_FRACTION * base."""
+    if progress < WARMUP_FRACTION:
+        return base * (0.1 + 0.9 * progress / WARMUP_FRACTION)
+    t = min(1.0, (progress - WARMUP_FRACTION) / (1 - WARMUP_FRACTION))
+    return base * (FINAL_LR_FRACTION + (1 - FINAL_LR_FRACTION) * 0.5 * (1 + math.cos(math.pi * t)))
+
+
+def predict(model, rgb):
+    """(ln depth, ln b) as float32 [N,H,W], in eval mode and full precision (the
+    deployed model runs in float32 too)."""
+    model.eval()
+    with torch.no_grad():
+        output = model(as_input(rgb)).float()
+    model.train()
+    return output[:, 0], output[:, 1]
+
+
+def evaluate(model, frames, indices):
+    """Per-frame metrics (see metrics.frame_metrics) of the frames indices."""
+    parts = []
+    for start in range(0, len(indices), EVAL_BATCH):
+        chunk = indices[start:start + EVAL_BATCH]
+        log_depth, _ = predict(model, frames.rgb[chunk])
+        parts.append(frame_metrics(torch.exp(log_depth), frames.depth[chunk]))
+    return {name: np.concatenate([part[name] for part in parts]) for name in parts[0]}
+
+
+def train(model, train_frames, val_frames, args, device, out_dir):
+    """The training loop. Returns (log rows, best step, steps, seconds) and leaves
+    the best weights (by val AbsRel) loaded in model and saved to depth_prior.pt."""
+    decay = [p for p in model.parameters() if p.ndim > 1]
+    no_decay = [p for p in model.parameters() if p.ndim <= 1]  # BatchNorm and biases
+    optimizer = torch.optim.AdamW([{"params": decay, "weight_decay": WEIGHT_DECAY},
+                                   {"params": no_decay, "weight_decay": 0.0}], lr=args.lr)
+    batches = batch_indices(train_frames.count, args.batch, torch.Generator(device).manual_seed(args.seed))
+    val_indices = torch.arange(val_frames.count, device=device)
+    budget_s = args.minutes * 60 if args.minutes is not None else None
+    rows, best = [], {"abs_rel": math.inf, "step": 0, "state": None}
+    loss_sum, loss_steps, step = torch.zeros((), device=device), 0, 0
+    start = time.time()
+    with open(os.path.join(out_dir, "log.csv"), "w", newline="") as log_file:
+        log = csv.DictWriter(log_file, LOG_COLUMNS)
+        log.writeheader()
+
+        def validate():
+            nonlocal loss_sum, loss_steps
+            figures = average(evaluate(model, val_frames, val_indices))
+            row = {"step": step, "seconds": round(time.time() - start, 2),
+                   "train_loss": float(loss_sum) / loss_steps,
+                   "val_abs_rel": figures["abs_rel"], "val_delta1": figures["delta1"]}
+            loss_sum, loss_steps = torch.zeros((), device=device), 0
+            rows.append(row)
+            log.writerow(row)
+            log_file.flush()
+            improved = figures["abs_rel"] < best["abs_rel"]
+            if improved:
+                best.update(abs_rel=figures["abs_rel"], step=step,
+                            state={k: v.detach().clone() for k, v in model.state_dict().items()})
+                torch.save({"state_dict": {k: v.cpu() for k, v in best["state"].items()},
+                            "height": model.height, "width": model.width, "step": step},
+                           os.path.join(out_dir, "depth_prior.pt"))
+            print("step %d  %.1f s  lr %.2e  train loss %.4f  val AbsRel %.4f  delta1 %.4f%s"
+                  % (step, row["seconds"], optimizer.param_groups[0]["lr"], row["train_loss"],
+                     figures["abs_rel"], figures["delta1"], "  (best)" if improved else ""), flush=True)
+
+        model.train()
+        while True:
+            progress = step / args.steps if budget_s is None else (time.time() - start) / budget_s
+            if step > 0 and progress >= 1:
+                break
+            for group in optimizer.param_groups:
+                group["lr"] = learning_rate(args.lr, progress)
+            indices = next(batches)
+            rgb, depth = augment(as_input(train_frames.rgb[indices]), train_frames.depth[indices])
+            with torch.autocast(device_type=device.type, dtype=torch.bfloat16, enabled=device.type == "cuda"):
+                output = model(rgb.contiguous(memory_format=torch.channels_last))
+            loss = laplace_nll(output, depth)
+            optimizer.zero_grad(set_to_none=True)
+            loss.backward()
+            torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
+            optimizer.step()
+            loss_sum += loss.detach()
+            loss_steps += 1
+            step += 1
+            if step % args.eval_every == 0:
+                validate()
+        if loss_steps:
+            validate()
+    seconds = time.time() - start
+    if best["state"] is None:
+        raise RuntimeError("validation never gave a finite AbsRel: training diverged")
+    model.load_state_dict(best["state"])
+    return rows, best["step"], step, seconds
+
+
+def sha256(path):
+    with open(path, "rb") as handle:
+        return hashlib.sha256(handle.read()).hexdigest()
+
+
+def write_samples(model, frames, path):
+    chosen = np.unique(np.linspace(0, frames.count - 1, min(SAMPLE_FRAMES, frames.count)).astype(int))
+    indices = torch.from_numpy(chosen).to(frames.rgb.device)
+    log_depth, log_scale = predict(model, frames.rgb[indices])
+    titles = ["%s, %s, key '%s', frame %d" % (frames.map[i], frames.kind[i], frames.key[i], i) for i in chosen]
+    plot_samples(frames.rgb[indices].cpu().numpy(), frames.depth[indices].cpu().numpy(),
+                 torch.exp(log_depth).cpu().numpy(), log_scale.cpu().numpy(), titles, path,
+                 (METRIC_MIN_M, METRIC_MAX_M))
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = parse_args(argv)
+    random.seed(args.seed)
+    np.random.seed(args.seed)
+    torch.manual_seed(args.seed)
+    try:
+        device = pick_device(args.device)
+        train_data, val_data = load_split(args)
+        model = DepthNet(train_data["meta"]["height"], train_data["meta"]["width"])
+    except ValueError as error:
+        sys.exit("train_depth: error: %s" % error)
+    os.makedirs(args.out, exist_ok=True)
+    for name, data in (("train", train_data), ("val", val_data)):
+        print("%s: %d frames from %d shards, maps %s" % (name, len(data["kind"]), len(data["meta"]["shards"]),
+                                                         ", ".join(data["meta"]["maps"])), flush=True)
+    meta = train_data["meta"]
+    parameters = count_parameters(model)
+    macs = count_macs(model, meta["height"], meta["width"])
+    print("model: %d parameters, %.1f M multiply-adds a frame; device %s"
+          % (parameters, macs / 1e6, device_name(device)), flush=True)
+    train_frames, val_frames = Frames(train_data, device), Frames(val_data, device)
+    model = model.to(device).to(memory_format=torch.channels_last)
+
+    rows, best_step, steps, seconds = train(model, train_frames, val_frames, args, device, args.out)
+
+    val_summary = summarize(evaluate(model, val_frames, torch.arange(val_frames.count, device=device)),
+                            val_frames.kind, val_frames.map)
+    subset = torch.randperm(train_frames.count, generator=torch.Generator().manual_seed(args.seed))
+    subset = subset[:TRAIN_EVAL_FRAMES].sort().values
+    chosen = subset.numpy()
+    train_summary = summarize(evaluate(model, train_frames, subset.to(device)),
+                              train_frames.kind[chosen], train_frames.map[chosen])
+
+    onnx_path = os.path.join(args.out, "depth_prior.onnx")
+    verify_rgb = as_input(val_frames.rgb[:VERIFY_FRAMES]).cpu().contiguous().numpy()
+    onnx_report = export_onnx(model, onnx_path, verify_rgb, {
+        "sky_depth_m": SKY_DEPTH_M, "fx": meta["fx"], "fy": meta["fy"], "cx": meta["cx"], "cy": meta["cy"],
+        "train_maps": ",".join(meta["maps"]), "val_abs_rel": val_summary["all"]["abs_rel"]})
+    print("exported %s; cv2.dnn vs torch max |diff| ln depth %.2e, ln b %.2e"
+          % (onnx_path, onnx_report["max_abs_diff_log_depth"], onnx_report["max_abs_diff_log_scale"]), flush=True)
+
+    metrics = {
+        "format": FORMAT_VERSION,
+        "val": val_summary,
+        "train_subset": train_summary,
+        "sky_depth_m": SKY_DEPTH_M,
+        "metric_depth_range_m": [METRIC_MIN_M, METRIC_MAX_M],
+        "parameters": parameters,
+        "macs_per_frame": macs,
+        "flops_per_frame": 2 * macs,
+        "input_width": meta["width"],
+        "input_height": meta["height"],
+        "steps": steps,
+        "best_step": best_step,
+        "train_seconds": round(seconds, 2),
+        "batch": args.batch,
+        "lr": args.lr,
+        "seed": args.seed,
+        "device": device_name(device),
+        "torch_version": torch.__version__,
+        "command_line": shlex.join([sys.argv[0]] + argv),
+        "train_frames": train_frames.count,
+        "val_frames": val_frames.count,
+        "train_maps": meta["maps"],
+        "val_maps": val_frames.meta["maps"],
+        "train_shards": meta["shards"],
+        "val_shards": val_frames.meta["shards"],
+        "onnx_sha256": sha256(onnx_path),
+        "onnx_check": onnx_report,
+    }
+    with open(os.path.join(args.out, "metrics.json"), "w") as handle:
+        json.dump(metrics, handle, indent=1)
+    plot_curves(rows, os.path.join(args.out, "curves.png"))
+    write_samples(model, val_frames, os.path.join(args.out, "samples.png"))
+    rotation = val_summary["rotate"]["abs_rel"]
+    print("done: best step %d of %d in %.0f s; val AbsRel %.4f delta1 %.4f, rotation frames' AbsRel %s; wrote %s"
+          % (best_step, steps, seconds, val_summary["all"]["abs_rel"], val_summary["all"]["delta1"],
+             "none" if rotation is None else "%.4f" % rotation, args.out), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

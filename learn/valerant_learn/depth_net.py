@@ -1,0 +1,194 @@
+"""The depth prior network: a small encoder-decoder sized for one CPU core.
+
+Encoder: MobileNetV2-style inverted residuals down to stride 32. Decoder: a light
+U-Net (bilinear upsampling, skip concatenation, depthwise-separable convs) back to
+full resolution. Every conv but the two 1x1 heads is followed by BatchNorm (+ReLU),
+which fold_batchnorm() folds away for export, so the exported graph holds only ops
+OpenCV 4.6's ONNX importer runs: Conv, Relu, Add, Sub, Mul, Slice, Concat, Resize.
+
+Input "rgb": float32 [N,3,H,W] RGB in [0,1]. Output "depth_and_scale": float32
+[N,2,H,W]; channel 0 is ln(depth in metres), channel 1 is ln(b), b the Laplace
+scale of the ln-depth error, clamped to [LOG_SCALE_MIN, LOG_SCALE_MAX]."""
+import copy
+import math
+
+import torch
+from torch import nn
+import torch.nn.functional as F
+from torch.nn.utils.fusion import fuse_conv_bn_eval
+
+INPUT_NAME = "rgb"
+OUTPUT_NAME = "depth_and_scale"
+LOG_SCALE_MIN = -6.0
+LOG_SCALE_MAX = 3.0
+# Start the depth head at 4 m, a typical arena range, so the first steps need not
+# learn the offset.
+INITIAL_DEPTH_M = 4.0
+
+# (output channels, stride, expansion) of each inverted residual; a stride-2 block
+# starts each stage, and the encoder keeps the output of each stage as a skip.
+ENCODER_STAGES = [
+    [(16, 1, 1)],                                        # stride 2
+    [(24, 2, 6), (24, 1, 6)],                            # stride 4
+    [(32, 2, 6), (32, 1, 6), (32, 1, 6)],                # stride 8
+    [(64, 2, 6), (64, 1, 6), (64, 1, 6), (96, 1, 6), (96, 1, 6)],  # stride 16
+    [(160, 2, 6), (160, 1, 6), (160, 1, 6)],             # stride 32
+]
+STEM_CHANNELS = 16
+# Decoder output channels from stride 16 up to full resolution.
+DECODER_CHANNELS = [96, 64, 32, 24, 16]
+
+
+class ConvBN(nn.Sequential):
+    """Conv2d -> BatchNorm2d (-> ReLU)."""
+
+    def __init__(self, cin, cout, kernel=1, stride=1, groups=1, relu=True):
+        layers = [nn.Conv2d(cin, cout, kernel, stride, kernel // 2, groups=groups, bias=False),
+                  nn.BatchNorm2d(cout)]
+        if relu:
+            layers.append(nn.ReLU(inplace=True))
+        super().__init__(*layers)
+
+    def fold(self):
+        self[0] = fuse_conv_bn_eval(self[0], self[1])
+        self[1] = nn.Identity()
+
+
+def coordinate_channels(height, width):
+    """[2,H,W]: row and column of each pixel centre, scaled to [-1,1]."""
+    rows = (torch.arange(height, dtype=torch.float32) + 0.5) / height * 2 - 1
+    cols = (torch.arange(width, dtype=torch.float32) + 0.5) / width * 2 - 1
+    return torch.stack([rows[:, None].expand(height, width), cols[None, :].expand(height, width)])
+
+
+class AppendCoordinates(nn.Module):
+    """Appends row/column coordinate channels to the image.
+
+    The camera height is fixed, so an image row says how far the floor seen there
+    is: the net needs to know where it is in the image. The constant is made
+    batch-sized as rgb[:, :2] * 0 + coords (a [2,H,W] constant broadcasts over the
+    batch in an Add), because ONNX Concat does not broadcast. (Adding the first
+    conv's coordinate term as a constant after that conv would be cheaper, but
+    OpenCV 4.6 fails an assertion when it fuses such an Add into the conv.)"""
+
+    def __init__(self, height, width):
+        super().__init__()
+        self.register_buffer("coords", coordinate_channels(height, width))
+
+    def forward(self, rgb):
+        return torch.cat([rgb, rgb[:, :2] * 0 + self.coords], 1)
+
+
+class InvertedResidual(nn.Module):
+    """MobileNetV2 block: 1x1 expand, 3x3 depthwise, linear 1x1 project."""
+
+    def __init__(self, cin, cout, stride, expansion):
+        super().__init__()
+        hidden = cin * expansion
+        layers = [ConvBN(cin, hidden)] if expansion != 1 else []
+        layers += [ConvBN(hidden, hidden, 3, stride, groups=hidden), ConvBN(hidden, cout, relu=False)]
+        self.body = nn.Sequential(*layers)
+        self.residual = stride == 1 and cin == cout
+
+    def forward(self, x):
+        return x + self.body(x) if self.residual else self.body(x)
+
+
+def separable(cin, cout):
+    """Depthwise 3x3 then pointwise 1x1, each with BN+ReLU."""
+    return nn.Sequential(ConvBN(cin, cin, 3, groups=cin), ConvBN(cin, cout))
+
+
+class DecoderStage(nn.Module):
+    """Upsample x2, concatenate the encoder skip (if any), separable conv."""
+
+    def __init__(self, cin, skip, cout):
+        super().__init__()
+        self.conv = separable(cin + skip, cout)
+
+    def forward(self, x, skip=None):
+        x = F.interpolate(x, scale_factor=2.0, mode="bilinear", align_corners=False)
+        return self.conv(x if skip is None else torch.cat([x, skip], 1))
+
+
+def clamp_by_relu(x, low, high):
+    """torch.clamp(x, low, high) written as low + relu(x - low) - relu(x - high):
+    opset 11 exports clamp as a Clip with min/max inputs, which OpenCV 4.6 rejects."""
+    return low + F.relu(x - low) - F.relu(x - high)
+
+
+class DepthNet(nn.Module):
+    def __init__(self, height=96, width=128):
+        super().__init__()
+        if height % 32 or width % 32:
+            raise ValueError("DepthNet needs a size divisible by 32, got %dx%d" % (width, height))
+        self.height, self.width = height, width
+        self.coordinates = AppendCoordinates(height, width)
+        self.stem = ConvBN(5, STEM_CHANNELS, 3, 2)
+        self.stages = nn.ModuleList()
+        channels, skips = STEM_CHANNELS, []
+        for stage in ENCODER_STAGES:
+            blocks = []
+            for cout, stride, expansion in stage:
+                blocks.append(InvertedResidual(channels, cout, stride, expansion))
+                channels = cout
+            self.stages.append(nn.Sequential(*blocks))
+            skips.append(channels)
+        # Skips at strides 16, 8, 4, 2, then none at full resolution.
+        self.decoder = nn.ModuleList()
+        for cout, skip in zip(DECODER_CHANNELS, skips[-2::-1] + [0]):
+            self.decoder.append(DecoderStage(channels, skip, cout))
+            channels = cout
+        self.depth_head = nn.Conv2d(channels, 1, 1)
+        self.scale_head = nn.Conv2d(channels, 1, 1)
+        nn.init.zeros_(self.depth_head.weight)
+        nn.init.constant_(self.depth_head.bias, math.log(INITIAL_DEPTH_M))
+        nn.init.zeros_(self.scale_head.bias)
+
+    def forward(self, rgb):
+        x = self.stem(self.coordinates(rgb))
+        skips = []
+        for stage in self.stages:
+            x = stage(x)
+            skips.append(x)
+        x = skips.pop()
+        for stage in self.decoder:
+            x = stage(x, skips.pop() if skips else None)
+        return torch.cat([self.depth_head(x), clamp_by_relu(self.scale_head(x), LOG_SCALE_MIN, LOG_SCALE_MAX)], 1)
+
+
+def fold_batchnorm(model):
+    """An eval-mode copy of the model with every BatchNorm folded into its conv."""
+    model = copy.deepcopy(model).cpu().float().eval()
+    with torch.no_grad():
+        for module in list(model.modules()):
+            if isinstance(module, ConvBN):
+                module.fold()
+    return model
+
+
+def count_parameters(model):
+    return sum(parameter.numel() for parameter in model.parameters())
+
+
+def count_macs(model, height, width):
+    """Multiply-accumulates of the convolutions for one frame (the rest of the
+    graph is a rounding error). One FLOP-count convention is 2 x this."""
+    total = [0]
+
+    def hook(module, _inputs, output):
+        kh, kw = module.kernel_size
+        total[0] += output[0].numel() * (module.in_channels // module.groups) * kh * kw
+
+    handles = [module.register_forward_hook(hook) for module in model.modules()
+               if isinstance(module, nn.Conv2d)]
+    was_training = model.training
+    model.eval()
+    try:
+        with torch.no_grad():
+            model(torch.zeros(1, 3, height, width, device=next(model.parameters()).device))
+    finally:
+        model.train(was_training)
+        for handle in handles:
+            handle.remove()
+    return total[0]

@@ -1,0 +1,201 @@
+// valerant_bench depth: accuracy and CPU cost of the learned depth prior against the
+// engine's true depth, next to the visual SLAM's plane-sweep depth on the same frames.
+// For each map and each of the first N spawns it renders the five paper candidates,
+// tracks each with a visual SLAM branch from the spawn's context (as the explorer does)
+// and scores every 4th frame of every candidate. Both depths are compared at the net's
+// resolution (truth and plane-sweep depth downsampled with INTER_NEAREST), on pixels
+// whose true depth is in [0.1, 80] m (sky, NaN, is left out), on frames whose camera
+// is outside solid brushes (a rollout that walks into a wall sees its inside, which
+// no depth estimate can judge, and training never shows), with the per-frame
+// figures averaged over frames (learn/valerant_learn/metrics.py's protocol, which also
+// clamps predictions into that range; this bench does not).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+#include "../cli_args.h"
+#include "bench.h"
+#include "valerant/slam/depth_prior.h"
+#include "valerant/slam/slam_factory.h"
+#include "valerant/world/quake3/quake3_world.h"
+
+namespace valerant::tools {
+namespace {
+
+constexpr size_t kFrameStride = 4;
+constexpr float kMinDepthM = 0.1f, kMaxDepthM = 80.0f;
+
+struct FrameScore {
+  double abs_rel = 0;  // mean |p - g| / g
+  double delta1 = 0;   // share of pixels with max(p/g, g/p) < 1.25
+};
+
+bool usableTruth(float g) { return g >= kMinDepthM && g <= kMaxDepthM; }  // false for NaN
+bool hasDepth(float d) { return std::isfinite(d) && d > 0; }
+
+// `estimate` (CV_32F, metres, NaN = none) times `scale` against `truth` (same size) over
+// the pixels where both exist; nothing when there is no such pixel.
+std::optional<FrameScore> score(const cv::Mat& estimate, const cv::Mat& truth, double scale) {
+  double abs_rel = 0, within = 0;
+  long pixels = 0;
+  for (int y = 0; y < truth.rows; ++y) {
+    for (int x = 0; x < truth.cols; ++x) {
+      const float g = truth.at<float>(y, x), e = estimate.at<float>(y, x);
+      if (!usableTruth(g) || !hasDepth(e)) continue;
+      const double p = scale * e;
+      abs_rel += std::abs(p - g) / g;
+      within += std::max(p / g, g / p) < 1.25 ? 1 : 0;
+      ++pixels;
+    }
+  }
+  if (pixels == 0) return std::nullopt;
+  return FrameScore{abs_rel / pixels, within / pixels};
+}
+
+// Median of truth / estimate over the pixels where both exist (1 when none): the
+// plane-sweep depth is in map units of an unknown scale, so each frame is aligned to
+// metres by this ratio before scoring; the figures measure its shape, not its scale.
+double medianScale(const cv::Mat& estimate, const cv::Mat& truth) {
+  std::vector<double> ratios;
+  for (int y = 0; y < truth.rows; ++y)
+    for (int x = 0; x < truth.cols; ++x) {
+      const float g = truth.at<float>(y, x), e = estimate.at<float>(y, x);
+      if (usableTruth(g) && hasDepth(e)) ratios.push_back(g / e);
+    }
+  if (ratios.empty()) return 1;
+  auto middle = ratios.begin() + static_cast<long>(ratios.size() / 2);
+  std::nth_element(ratios.begin(), middle, ratios.end());
+  return *middle;
+}
+
+// Per-frame scores averaged over all frames and over the rotation frames alone.
+class ScoreMeans {
+ public:
+  void add(const FrameScore& s, bool rotation) {
+    all_.add(s);
+    if (rotation) rotation_.add(s);
+  }
+  int frames() const { return all_.n; }
+  int rotationFrames() const { return rotation_.n; }
+  nlohmann::json json() const {
+    return {{"abs_rel", all_.absRel()},
+            {"delta1", all_.delta1()},
+            {"abs_rel_rotation", rotation_.absRel()},
+            {"delta1_rotation", rotation_.delta1()}};
+  }
+
+ private:
+  struct Mean {
+    double abs_rel_sum = 0, delta1_sum = 0;
+    int n = 0;
+    void add(const FrameScore& s) { abs_rel_sum += s.abs_rel, delta1_sum += s.delta1, ++n; }
+    nlohmann::json absRel() const { return n ? nlohmann::json(abs_rel_sum / n) : nlohmann::json(nullptr); }
+    nlohmann::json delta1() const { return n ? nlohmann::json(delta1_sum / n) : nlohmann::json(nullptr); }
+  };
+  Mean all_, rotation_;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  auto middle = v.begin() + static_cast<long>(v.size() / 2);
+  std::nth_element(v.begin(), middle, v.end());
+  return *middle;
+}
+
+}  // namespace
+
+nlohmann::json benchDepth(int argc, char** argv) {
+  CliArgs args(argc, argv, {"--maps", "--spawns", "--model", "--config"});
+  Config config = loadConfig(args.get("--config", defaultConfigPath()));
+  const std::vector<std::string> maps = args.list("--maps", config.world.map);
+  const int spawns = args.integer("--spawns", 2);
+  if (spawns < 1) throw InputError("--spawns", "must be >= 1");
+  // --model is relative to the working directory, the configured model to the source tree.
+  const std::string model = args.has("--model") ? std::filesystem::absolute(args.get("--model")).string()
+                                                : sourceTreePath(config.slam.depth_prior_model);
+  std::vector<ActionSequence> sequences;  // validated before any map is loaded
+  for (const char* c : {"uw", "jw", "lw", "jq", "lq"}) sequences.push_back(makeActionSequence(c, config));
+  cv::setNumThreads(1);
+  const DepthPrior prior(model, cv::Size(config.slam.depth_prior_width, config.slam.depth_prior_height));
+  const cv::Size net_size = prior.netSize();
+
+  ScoreMeans prior_scores, sweep_scores;
+  std::vector<double> prior_ms;
+  double coverage_sum = 0;
+  long coverage_frames = 0, in_solid_frames = 0;
+  std::vector<std::string> skipped_spawns;
+  for (const std::string& name : maps) {
+    config.world.map = name;
+    const auto map = quake3::loadQuake3Map(name, config.world.patch_level);
+    for (int spawn = 0; spawn < spawns; ++spawn) {
+      config.world.spawn = spawn;
+      std::optional<quake3::Quake3World> made;
+      try {
+        made.emplace(map, config);
+      } catch (const InputError& e) {  // a spawn over the void or in solid: named in the output
+        skipped_spawns.push_back(name + " " + std::to_string(spawn) + ": " + e.what());
+        continue;
+      }
+      quake3::Quake3World& world = *made;
+      auto slam = makeSlam("visual", world.intrinsics(), config);
+      for (const cv::Mat& frame : world.context().frames) slam->track(SlamInput{frame, nullptr});
+      const CheckpointId start = world.checkpoint();
+      for (const ActionSequence& seq : sequences) {
+        world.restore(start);
+        const Rollout rollout = world.rollout(seq);
+        const bool rotation = seq.rotationOnly();
+        auto branch = slam->branch();
+        for (size_t i = 0; i < rollout.frames.size(); ++i) {
+          const TrackedFrame tracked = branch->track(SlamInput{rollout.frames[i], nullptr});
+          if (i % kFrameStride != 0) continue;
+          if (rollout.truth.at(i).in_solid) {
+            ++in_solid_frames;
+            continue;
+          }
+          cv::Mat truth;
+          cv::resize(rollout.truth.at(i).depth_m, truth, net_size, 0, 0, cv::INTER_NEAREST);
+
+          const auto t0 = std::chrono::steady_clock::now();
+          const DepthPrediction predicted = prior.predict(rollout.frames[i]);
+          prior_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+          if (const auto s = score(predicted.depth_m, truth, 1.0)) prior_scores.add(*s, rotation);
+
+          // Coverage over every scored frame, those without any plane-sweep depth included.
+          const cv::Mat& sweep = tracked.depth;
+          const double covered = sweep.empty() ? 0 : cv::countNonZero(sweep > 0);  // NaN > 0 is false
+          coverage_sum += sweep.empty() ? 0 : covered / static_cast<double>(sweep.total());
+          ++coverage_frames;
+          if (sweep.empty() || covered == 0) continue;
+          cv::Mat sweep_small;
+          cv::resize(sweep, sweep_small, net_size, 0, 0, cv::INTER_NEAREST);
+          if (const auto s = score(sweep_small, truth, medianScale(sweep_small, truth))) sweep_scores.add(*s, rotation);
+        }
+      }
+    }
+  }
+
+  nlohmann::json prior_json = prior_scores.json();
+  prior_json["ms_per_frame"] = median(prior_ms);
+  nlohmann::json sweep_json = sweep_scores.json();
+  sweep_json["coverage"] = coverage_frames ? coverage_sum / coverage_frames : 0.0;
+  sweep_json["frames"] = sweep_scores.frames();
+  sweep_json["rotation_frames"] = sweep_scores.rotationFrames();
+  return {{"bench", "depth"},
+          {"maps", maps},
+          {"spawns", spawns},
+          {"in_solid_frames_skipped", in_solid_frames},
+          {"spawns_skipped", skipped_spawns},
+          {"frames", prior_scores.frames()},
+          {"rotation_frames", prior_scores.rotationFrames()},
+          {"net_width", net_size.width},
+          {"net_height", net_size.height},
+          {"prior", prior_json},
+          {"plane_sweep", sweep_json},
+          {"model", model}};
+}
+
+}  // namespace valerant::tools

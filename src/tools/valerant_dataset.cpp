@@ -1,0 +1,142 @@
+// valerant_dataset: renders training data for the learned parts (the depth prior, a
+// world model) from the engine: colour frames, ground-truth depth, poses, keys and
+// in-solid flags along candidate rollouts, turns in place and random walks, written as
+// compact shards (shard_writer.h). Maps come from config/map_sets.yaml's split: `train`
+// is every installed map except the held-out ones, `evaluation` the evaluation maps.
+// One JSON line on stdout; progress on stderr.
+//
+//   valerant_dataset --out DIR [--split train|evaluation] [--maps A,B,...] [--exclude A,B]
+//                    [--seed N] [--width 128] [--height 96] [--spawns 3] [--rotations 12]
+//                    [--walks 12] [--shard-mib 24] [--in-solid skip|keep] [--config FILE]
+//   valerant_dataset --list-maps [--split ...] [--maps ...] [--exclude ...]   (the maps, one a line)
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli_args.h"
+#include "valerant/dataset/dataset_render.h"
+#include "valerant/dataset/map_sets.h"
+
+using namespace valerant;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> chooseMaps(const tools::CliArgs& args, const dataset::MapSets& sets, const std::string& split) {
+  std::vector<std::string> maps;
+  if (args.has("--maps")) {
+    maps = args.list("--maps", "");
+  } else if (split == "evaluation") {
+    maps = sets.evaluation;
+  } else {
+    for (const auto& m : quake3::installedMapNames())
+      if (!sets.isHeldOut(m)) maps.push_back(m);
+  }
+  if (args.has("--exclude")) {
+    const auto exclude = args.list("--exclude", "");
+    maps.erase(std::remove_if(maps.begin(), maps.end(),
+                              [&](const std::string& m) { return std::count(exclude.begin(), exclude.end(), m) > 0; }),
+               maps.end());
+  }
+  for (const auto& m : maps) {
+    if (split == "train" && sets.isHeldOut(m))
+      throw InputError("--maps " + m, "is held out for evaluation (config/map_sets.yaml): never in a training shard");
+    if (split == "evaluation" && !sets.isHeldOut(m))
+      throw InputError("--maps " + m, "is not a held-out map; an evaluation shard holds only those");
+  }
+  if (maps.empty()) throw InputError("--maps", "no map left to render");
+  return maps;
+}
+
+int positive(const tools::CliArgs& args, const std::string& key, int fallback) {
+  const int v = args.integer(key, fallback);
+  if (v < 0) throw InputError(key + " " + std::to_string(v), "must not be negative");
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    tools::CliArgs args(argc, argv,
+                        {"--out", "--split", "--maps", "--exclude", "--seed", "--width", "--height", "--spawns",
+                         "--rotations", "--walks", "--shard-mib", "--in-solid", "--config", "--map-sets"},
+                        {"--list-maps"});
+    Config config = loadConfig(args.get("--config", defaultConfigPath()));
+    const std::string split = args.get("--split", "train");
+    if (split != "train" && split != "evaluation") throw InputError("--split " + split, "must be train or evaluation");
+    const std::string in_solid = args.get("--in-solid", "skip");
+    if (in_solid != "skip" && in_solid != "keep") throw InputError("--in-solid " + in_solid, "must be skip or keep");
+    const dataset::MapSets sets = dataset::loadMapSets(args.get("--map-sets", dataset::defaultMapSetsPath()));
+    const std::vector<std::string> maps = chooseMaps(args, sets, split);
+    if (args.has("--list-maps")) {
+      for (const auto& m : maps) std::cout << m << '\n';
+      return 0;
+    }
+    config.world.width = args.integer("--width", 128);
+    config.world.height = args.integer("--height", 96);
+    if (config.world.width < 16 || config.world.height < 16 || config.world.width > 4096 || config.world.height > 4096)
+      throw InputError("--width/--height", "must be 16 to 4096 pixels");
+    const int64_t seed_arg = args.integer<int64_t>("--seed", 0);
+    if (seed_arg < 0) throw InputError("--seed " + std::to_string(seed_arg), "must not be negative");
+    const uint64_t seed = static_cast<uint64_t>(seed_arg);
+    dataset::SamplingParams params;
+    params.spawns = positive(args, "--spawns", params.spawns);
+    params.rotations = positive(args, "--rotations", params.rotations);
+    params.walks = positive(args, "--walks", params.walks);
+    const int shard_mib = args.integer("--shard-mib", 24);
+    if (shard_mib < 1 || shard_mib > 60) throw InputError("--shard-mib " + std::to_string(shard_mib), "must be 1 to 60");
+    const std::string out = args.required("--out");
+    fs::create_directories(out);
+
+    dataset::ShardMeta meta;
+    meta.intrinsics = CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg);
+    meta.seed = seed;
+    meta.split = split;
+    meta.units_per_metre = config.exports.units_per_metre;
+    meta.eye_height_m = config.world.eye_height_units / config.exports.units_per_metre;
+
+    std::vector<std::string> shards;
+    std::unique_ptr<dataset::ShardWriter> shard;
+    auto finishShard = [&] {
+      if (shard && shard->frames() > 0) shard->finish();
+      shard.reset();
+    };
+    const dataset::FrameSink sink = [&](const dataset::FrameRecord& r, const cv::Mat& rgb, const cv::Mat& depth) {
+      if (shard && shard->bytes() >= static_cast<size_t>(shard_mib) << 20) finishShard();
+      if (!shard) {
+        char name[64];
+        std::snprintf(name, sizeof(name), "%s-%03zu.zip", split.c_str(), shards.size());
+        shards.push_back((fs::path(out) / name).string());
+        shard = std::make_unique<dataset::ShardWriter>(shards.back(), meta);
+      }
+      shard->add(r, rgb, depth);
+    };
+
+    nlohmann::json per_map = nlohmann::json::object();
+    int frames = 0, sequence = 0, in_solid_stops = 0;
+    for (size_t i = 0; i < maps.size(); ++i) {
+      const auto map = quake3::loadQuake3Map(maps[i], config.world.patch_level);
+      const dataset::MapRenderStats s =
+          dataset::renderMapDataset(*map, maps[i], config, params, seed, in_solid == "keep", sequence, sink);
+      sequence += s.sequences;
+      frames += s.frames;
+      in_solid_stops += s.in_solid_stops;
+      per_map[maps[i]] = s.frames;
+      std::cerr << "valerant_dataset: " << i + 1 << "/" << maps.size() << " " << maps[i] << ": " << s.frames
+                << " frames, " << s.sequences << " sequences, " << s.in_solid_stops << " stopped in solid\n";
+    }
+    finishShard();
+    const nlohmann::json line = {{"tool", "valerant_dataset"}, {"split", split},   {"seed", seed},
+                                 {"width", config.world.width}, {"height", config.world.height},
+                                 {"maps", maps},  {"frames", frames}, {"frames_per_map", per_map},
+                                 {"sequences_stopped_in_solid", in_solid_stops}, {"shards", shards}};
+    std::cout << line.dump() << std::endl;
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "valerant_dataset: error: " << e.what() << std::endl;
+    return 1;
+  }
+}
