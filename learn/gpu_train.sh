@@ -36,7 +36,7 @@ python3 -c 'import torch, cv2, onnx; print("torch", torch.__version__, "cuda", t
 rm -rf "$RUN" "$RUN.done"
 # setsid: the training must outlive this call's process group.
 setsid bash -c 'PYTHONUNBUFFERED=1 python3 learn/train_depth.py --train "$2/train/*.zip" --val "$2/eval/*.zip" --out "$1" \
-   --minutes "$0" --workers 16 --seed 0 --device cuda > "$1.log" 2>&1; echo $? > "$1.done"' \
+   --minutes "$0" --batch 256 --workers 16 --seed 0 --device cuda > "$1.log" 2>&1; echo $? > "$1.done"' \
   "${2:-12}" "$RUN" "$VDATA" < /dev/null &
 sleep 5
 wait_for_training 560

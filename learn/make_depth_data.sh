@@ -1,8 +1,7 @@
 #!/usr/bin/env bash
 # Renders the depth prior's data set (models/depth_prior.md) into data/ (git-ignored):
 # the training maps in two halves (odd and even lines of the sorted list), each small
-# enough to travel to the GPU host in parts, twice (seeds 1 and 3: other floor cells,
-# yaws and walks), and the evaluation maps' shard.
+# enough to travel to the GPU host in parts, and the evaluation maps' shard.
 #   learn/make_depth_data.sh            (about 1 minute a half on 2 cores)
 set -euo pipefail
 source "$(dirname "$0")/../scripts/env.sh"
@@ -13,8 +12,5 @@ a=$(echo "$maps" | awk 'NR % 2 == 1' | paste -sd,)
 b=$(echo "$maps" | awk 'NR % 2 == 0' | paste -sd,)
 "$tool" --out data/train_a --maps "$a" --seed 1 > data/train_a.json &
 "$tool" --out data/train_b --maps "$b" --seed 1 > data/train_b.json &
-wait
-"$tool" --out data/train_c --maps "$a" --seed 3 > data/train_c.json &
-"$tool" --out data/train_d --maps "$b" --seed 3 > data/train_d.json &
 wait
 "$tool" --out data/eval --split evaluation --seed 2 > data/eval.json
