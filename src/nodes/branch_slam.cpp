@@ -39,6 +39,7 @@
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/guarded.h"
 #include "valerant/ros/nodelet_of.h"
+#include "valerant/ros/topic_links.h"
 #include "valerant/ros/service_call.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/action_sequence.h"
@@ -312,7 +313,7 @@ class BranchSlam : public SlotHost {
  private:
   static CameraIntrinsics waitForCamera(::ros::NodeHandle& nh, double timeout_s) {
     const std::string topic = std::string(valerant::bridge::kWorldModel) + "/camera_info";
-    const auto info = ::ros::topic::waitForMessage<sensor_msgs::CameraInfo>(topic, nh, ::ros::Duration(timeout_s));
+    const auto info = valerant::bridge::waitForLatched<sensor_msgs::CameraInfo>(topic, nh, timeout_s);
     if (!info) throw InputError(nh.resolveName(topic), "nothing received");
     CameraIntrinsics intrinsics;
     intrinsics.width = static_cast<int>(info->width);

@@ -43,12 +43,14 @@ struct Branch {
 class CollisionChecker {
  public:
   CollisionChecker(::ros::NodeHandle nh, ::ros::NodeHandle pnh) : config_(valerant::bridge::loadGraphConfig(nh)) {
-    for (const std::string& c : candidateNames()) {
+    for (const std::string& c : candidateNames())
       results_[c] = nh.advertise<valerant::CandidateResult>(valerant::bridge::branchName(c, "result"), 16);
-      samples_.push_back(nh.subscribe<valerant::FloorSample>(
-          valerant::bridge::branchName(c, "floor"), 256,
-          [this, c](const valerant::FloorSample::ConstPtr& msg) { onSample(c, *msg); }));
-    }
+    subscribe_ = [this, nh](size_t i) mutable {
+      const std::string c = candidateNames().at(i);
+      return nh.subscribe<valerant::FloorSample>(valerant::bridge::branchName(c, "floor"), 256,
+                                                 [this, c](const valerant::FloorSample::ConstPtr& msg) { onSample(c, *msg); });
+    };
+    for (size_t i = 0; i < candidateNames().size(); ++i) samples_.push_back(subscribe_(i));
     services_ = {pnh.advertiseService("reset", &CollisionChecker::reset, this),
                  pnh.advertiseService("checkpoint", &CollisionChecker::checkpoint, this),
                  pnh.advertiseService("restore", &CollisionChecker::restore, this),
@@ -128,7 +130,7 @@ class CollisionChecker {
   bool reset(valerant::Reset::Request&, valerant::Reset::Response& res) {
     return guarded("collision_checker/reset", res, [&] {
       // An episode starts here: its first results must not be lost to a link still being set up.
-      valerant::bridge::waitForPublishers(samples_, valerant::bridge::kTopicLinkTimeoutS, "collision_checker");
+      valerant::bridge::connectInputs(samples_, subscribe_, valerant::bridge::kTopicLinkTimeoutS, "collision_checker");
       committed_ = CommittedPoints(config_.collision);
       saved_.clear();
       branches_.clear();
@@ -170,6 +172,7 @@ class CollisionChecker {
   std::map<std::string, Branch> branches_;
   std::map<std::string, ::ros::Publisher> results_;
   std::vector<::ros::Subscriber> samples_;
+  valerant::bridge::Resubscribe subscribe_;
   std::vector<::ros::ServiceServer> services_;
 };
 

@@ -43,12 +43,14 @@ struct Branch {
 class FloorEstimatorNode {
  public:
   FloorEstimatorNode(::ros::NodeHandle nh, ::ros::NodeHandle pnh) : config_(valerant::bridge::loadGraphConfig(nh)) {
-    for (const std::string& c : candidateNames()) {
+    for (const std::string& c : candidateNames())
       floors_[c] = nh.advertise<valerant::FloorSample>(valerant::bridge::branchName(c, "floor"), 256);
-      tracked_.push_back(nh.subscribe<valerant::SlamFrame>(
-          valerant::bridge::branchName(c, "tracked"), 256,
-          [this, c](const valerant::SlamFrame::ConstPtr& msg) { onTracked(c, *msg); }));
-    }
+    subscribe_ = [this, nh](size_t i) mutable {
+      const std::string c = candidateNames().at(i);
+      return nh.subscribe<valerant::SlamFrame>(valerant::bridge::branchName(c, "tracked"), 256,
+                                               [this, c](const valerant::SlamFrame::ConstPtr& msg) { onTracked(c, *msg); });
+    };
+    for (size_t i = 0; i < candidateNames().size(); ++i) tracked_.push_back(subscribe_(i));
     services_ = {pnh.advertiseService("floor_context", &FloorEstimatorNode::floorContext, this),
                  pnh.advertiseService("checkpoint", &FloorEstimatorNode::checkpoint, this),
                  pnh.advertiseService("restore", &FloorEstimatorNode::restore, this),
@@ -131,7 +133,7 @@ class FloorEstimatorNode {
     return guarded("floor_estimator/floor_context", res, [&] {
       if (req.frames.empty()) throw InputError("context", "has no frames");
       // An episode starts here: its first frames must not be lost to a link still being set up.
-      valerant::bridge::waitForPublishers(tracked_, valerant::bridge::kTopicLinkTimeoutS, "floor_estimator");
+      valerant::bridge::connectInputs(tracked_, subscribe_, valerant::bridge::kTopicLinkTimeoutS, "floor_estimator");
       FloorEstimator floor =
           startFloorEstimator(config_, valerant::bridge::fromMsg(req.frames.front().camera_to_map));
       for (const auto& f : req.frames) res.samples.push_back(sample(floor, f));
@@ -188,6 +190,7 @@ class FloorEstimatorNode {
   std::map<std::string, Branch> branches_;
   std::map<std::string, ::ros::Publisher> floors_;
   std::vector<::ros::Subscriber> tracked_;
+  valerant::bridge::Resubscribe subscribe_;
   std::vector<::ros::ServiceServer> services_;
 };
 

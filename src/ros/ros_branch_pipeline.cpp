@@ -51,9 +51,11 @@ RosBranchPipeline::RosBranchPipeline(::ros::NodeHandle nh, double connect_timeou
   for (const std::string& name : allNames("checkpoint"))
     if (!links_.at(name).waitForExistence(timeout))
       throw InputError("service " + nh_.resolveName(name), "not reachable (is the node running?)");
-  for (const std::string& c : candidateNames())
-    results_.push_back(nh_.subscribe(branchName(c, "result"), 10, &RosBranchPipeline::onResult, this));
-  waitForPublishers(results_, connect_timeout_s, "explorer");
+  auto subscribe = [this](size_t i) {
+    return nh_.subscribe(branchName(candidateNames().at(i), "result"), 10, &RosBranchPipeline::onResult, this);
+  };
+  for (size_t i = 0; i < candidateNames().size(); ++i) results_.push_back(subscribe(i));
+  connectInputs(results_, subscribe, connect_timeout_s, "explorer");
 }
 
 template <class Service>

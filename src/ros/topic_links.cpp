@@ -6,8 +6,10 @@
 
 namespace valerant::bridge {
 
-void waitForPublishers(const std::vector<::ros::Subscriber>& inputs, double timeout_s, const std::string& who) {
+void connectInputs(std::vector<::ros::Subscriber>& inputs, const Resubscribe& resubscribe, double timeout_s,
+                   const std::string& who) {
   const ::ros::WallTime deadline = ::ros::WallTime::now() + ::ros::WallDuration(timeout_s);
+  ::ros::WallTime retry = ::ros::WallTime::now() + ::ros::WallDuration(kLinkRetryS);
   auto unconnected = [&] {
     std::string topics;
     for (const auto& s : inputs)
@@ -17,6 +19,14 @@ void waitForPublishers(const std::vector<::ros::Subscriber>& inputs, double time
   std::string missing = unconnected();
   while (!missing.empty() && ::ros::ok() && ::ros::WallTime::now() < deadline) {
     ::ros::WallDuration(0.01).sleep();
+    if (::ros::WallTime::now() >= retry) {
+      for (size_t i = 0; i < inputs.size(); ++i)
+        if (inputs[i].getNumPublishers() == 0) {
+          ROS_WARN_STREAM(who << ": " << inputs[i].getTopic() << " still unconnected, subscribing again");
+          inputs[i] = resubscribe(i);
+        }
+      retry = ::ros::WallTime::now() + ::ros::WallDuration(kLinkRetryS);
+    }
     missing = unconnected();
   }
   if (!missing.empty())

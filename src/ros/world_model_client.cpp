@@ -11,6 +11,7 @@
 
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_names.h"
+#include "valerant/ros/topic_links.h"
 #include "valerant/ros/service_call.h"
 
 namespace valerant::bridge {
@@ -33,7 +34,7 @@ WorldModelClient::WorldModelClient(::ros::NodeHandle nh, double connect_timeout_
   const ::ros::Duration timeout(connect_timeout_s);
   if (!rollout_.waitForServer(timeout) || !checkpoint_.waitForExistence(timeout))
     throw InputError("world model server " + nh.resolveName(kWorldModel), "not reachable");
-  const auto info = ::ros::topic::waitForMessage<sensor_msgs::CameraInfo>(name("camera_info"), nh, timeout);
+  const auto info = waitForLatched<sensor_msgs::CameraInfo>(name("camera_info"), nh, connect_timeout_s);
   if (!info) throw InputError("topic " + nh.resolveName(name("camera_info")), "nothing received");
   intrinsics_.width = static_cast<int>(info->width);
   intrinsics_.height = static_cast<int>(info->height);
