@@ -26,16 +26,17 @@ def wait_for_connections(endpoint, timeout_s=60.0):
         rospy.sleep(0.05)
 
 
-GRAPH_NODES = ("world_model", "branch_manager", "branch_slam", "floor_estimator", "collision_checker",
-               "policy_arbiter", "map_fusion", "explorer")
 DIED = re.compile(r"\[([\w./-]+)\] process has died \[pid \d+, exit code (-?\d+)|process has died \[pid \d+, exit code (-?\d+)")
 
 
 def dead_graph_nodes():
-    """The graph's nodes that no longer answer (a crashed process stays registered with
-    the master, so a ping is the test): an empty list when the whole graph is alive."""
-    namespace = rospy.get_namespace()
-    return [n for n in GRAPH_NODES if not rosnode.rosnode_ping(namespace + n, max_count=1, verbose=False)]
+    """The registered nodes that no longer answer (a crashed process stays registered
+    with the master, so a ping is the test; the list covers both graph layouts, one
+    branch_slam or one per candidate): an empty list when the whole graph is alive."""
+    names = [n for n in rosnode.get_node_names() if n not in (rospy.get_name(), "/rosout")]
+    if not any(n.endswith("/explorer") for n in names):
+        return ["explorer (not registered)"]
+    return [n for n in names if not rosnode.rosnode_ping(n, max_count=1, verbose=False)]
 
 
 def node_deaths(roslaunch_log):
