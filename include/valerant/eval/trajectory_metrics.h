@@ -1,8 +1,8 @@
 #pragma once
-// Accuracy of a SLAM run against ground truth (engine world only, DESIGN.md section
-// 5): absolute trajectory error after a Sim(3) alignment (Umeyama), as a share of the
-// path length, rotation error, and depth AbsRel on confident pixels after one median
-// scale for the whole sequence (monocular depth has an arbitrary scale).
+// Accuracy of a SLAM run against ground truth (engine world only): absolute
+// trajectory error after a Sim(3) alignment (Umeyama), as a share of the path length,
+// rotation error, and depth AbsRel on confident pixels after one median scale for the
+// whole sequence (monocular depth has an arbitrary scale).
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// The per-branch half of an exploration step (DESIGN.md sections 1 and 4): SLAM, floor
+// The per-branch half of an exploration step: SLAM, floor
 // and collision for each candidate rollout, and the per-branch state carried from step
 // to step (the committed SLAM and floor estimator) saved under the world model's
 // synchronised checkpoint ids. Episode drives one. LocalBranchPipeline runs it in this
