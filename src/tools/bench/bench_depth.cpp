@@ -56,6 +56,13 @@ std::optional<FrameScore> score(const cv::Mat& estimate, const cv::Mat& truth, d
   return FrameScore{abs_rel / pixels, within / pixels};
 }
 
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  auto middle = v.begin() + static_cast<long>(v.size() / 2);
+  std::nth_element(v.begin(), middle, v.end());
+  return *middle;
+}
+
 // Median of truth / estimate over the pixels where both exist (1 when none): the
 // plane-sweep depth is in map units of an unknown scale, so each frame is aligned to
 // metres by this ratio before scoring; the figures measure its shape, not its scale.
@@ -66,10 +73,7 @@ double medianScale(const cv::Mat& estimate, const cv::Mat& truth) {
       const float g = truth.at<float>(y, x), e = estimate.at<float>(y, x);
       if (usableTruth(g) && hasDepth(e)) ratios.push_back(g / e);
     }
-  if (ratios.empty()) return 1;
-  auto middle = ratios.begin() + static_cast<long>(ratios.size() / 2);
-  std::nth_element(ratios.begin(), middle, ratios.end());
-  return *middle;
+  return ratios.empty() ? 1.0 : median(std::move(ratios));
 }
 
 // Per-frame scores averaged over all frames and over the rotation frames alone.
@@ -98,13 +102,6 @@ class ScoreMeans {
   };
   Mean all_, rotation_;
 };
-
-double median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  auto middle = v.begin() + static_cast<long>(v.size() / 2);
-  std::nth_element(v.begin(), middle, v.end());
-  return *middle;
-}
 
 }  // namespace
 
