@@ -6,12 +6,12 @@
 #include <sstream>
 
 #include "valerant/common/error.h"
+#include "valerant/common/output_file.h"
 
 namespace valerant {
 
 void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses) {
-  std::ofstream out(path);
-  if (!out) throw InputError(path, "cannot write trajectory");
+  std::ostringstream out;
   out << "# timestamp tx ty tz qx qy qz qw\n" << std::setprecision(9);
   for (const auto& p : poses) {
     const Eigen::Quaterniond q(p.pose.linear());
@@ -19,7 +19,7 @@ void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>&
     out << p.stamp << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y()
         << ' ' << q.z() << ' ' << q.w() << '\n';
   }
-  if (!out) throw InputError(path, "write failed (disk full?)");
+  writeFileAtomically(path, out.str());
 }
 
 std::vector<StampedPose> readTumTrajectory(const std::string& path) {

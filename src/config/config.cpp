@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,20 +15,21 @@
 namespace valerant {
 namespace {
 
-// Reads the keys of one YAML mapping into typed fields, remembering which keys were
-// consumed so that anything left over (a typo) is reported instead of ignored.
+// Reads the keys of one YAML mapping into typed fields. Every key must be there (a
+// missing one is an error naming it), and anything left over (a typo) is reported
+// instead of ignored. Errors name the key's override when one set it, else the file.
 class Section {
  public:
-  // An absent or empty section (`node` undefined or null) keeps every default.
-  Section(const YAML::Node& node, std::string path, const std::string& source)
-      : node_(node), present_(node.IsDefined() && !node.IsNull()), path_(std::move(path)), source_(source) {
-    if (present_ && !node_.IsMap()) fail(path_, "expected a mapping");
+  Section(const YAML::Node& node, std::string path, const std::string& source,
+          const std::map<std::string, std::string>& origins)
+      : node_(node), path_(std::move(path)), source_(source), origins_(origins) {
+    if (!node_.IsDefined() || node_.IsNull()) fail(path_, "missing (a config file names every key, or extends a base file that does)");
+    if (!node_.IsMap()) fail(path_, "expected a mapping");
   }
 
   template <typename T>
   void number(const char* key, T& field, T min, T max) {
     const YAML::Node v = take(key);
-    if (!v) return;
     T value;
     try {
       if (!v.IsScalar()) throw YAML::Exception(v.Mark(), "not a scalar");
@@ -45,7 +47,6 @@ class Section {
 
   void boolean(const char* key, bool& field) {
     const YAML::Node v = take(key);
-    if (!v) return;
     try {
       if (!v.IsScalar()) throw YAML::Exception(v.Mark(), "not a scalar");
       field = v.as<bool>();
@@ -63,16 +64,14 @@ class Section {
 
   void string(const char* key, std::string& field) {
     const YAML::Node v = take(key);
-    if (!v) return;
     if (!v.IsScalar()) fail(name(key), "expected a string");
     field = v.Scalar();
   }
 
-  Section child(const char* key) { return Section(take(key), name(key), source_); }
+  Section child(const char* key) { return Section(take(key), name(key), source_, origins_); }
 
   // Every key of the mapping must have been read.
   void finish() const {
-    if (!present_) return;
     for (const auto& kv : node_) {
       const std::string key = kv.first.as<std::string>();
       if (!used_.count(key)) fail(name(key.c_str()), "unknown key");
@@ -80,13 +79,14 @@ class Section {
   }
 
  private:
-  // The value under `key`, or an undefined node (false in `if`) when absent. Reads
-  // through a const node: yaml-cpp's non-const operator[] would insert the key.
+  // The value under `key`; a missing key is an error. Reads through a const node:
+  // yaml-cpp's non-const operator[] would insert the key.
   YAML::Node take(const char* key) {
     used_.insert(key);
-    if (!present_) return YAML::Node(YAML::NodeType::Undefined);
     const YAML::Node& map = node_;
-    return map[key];
+    YAML::Node v = map[key];
+    if (!v.IsDefined()) fail(name(key), "missing (a config file names every key, or extends a base file that does)");
+    return v;
   }
   std::string name(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
   static std::string text(const YAML::Node& v) {
@@ -94,13 +94,14 @@ class Section {
     return v.IsSequence() ? "<sequence>" : "<mapping>";
   }
   [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
-    throw InputError(source_, key + ": " + problem);
+    const auto origin = origins_.find(key);
+    throw InputError(origin == origins_.end() ? source_ : origin->second, key + ": " + problem);
   }
 
   YAML::Node node_;
-  bool present_;
   std::string path_;
   const std::string& source_;
+  const std::map<std::string, std::string>& origins_;
   std::set<std::string> used_;
 };
 
@@ -194,16 +195,111 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
 
 }  // namespace
 
-Config parseConfig(const std::string& yaml_text, const std::string& source) {
-  YAML::Node root;
+namespace {
+
+constexpr int kMaxExtendsDepth = 8;
+
+YAML::Node loadYaml(const std::string& text, const std::string& source) {
   try {
-    root = YAML::Load(yaml_text);
+    return YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw InputError(source, std::string("invalid YAML: ") + e.what());
   }
+}
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot read config file");
+  std::stringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(path, "cannot read config file");
+  return text.str();
+}
+
+// `over` laid on `base`: mappings merge key by key, anything else replaces.
+YAML::Node merged(const YAML::Node& base, const YAML::Node& over) {
+  if (!base.IsMap() || !over.IsMap()) return YAML::Clone(over);
+  YAML::Node out = YAML::Clone(base);
+  for (const auto& kv : over) {
+    const std::string key = kv.first.as<std::string>();
+    const YAML::Node& base_const = base;
+    out[key] = base_const[key].IsDefined() ? merged(base_const[key], kv.second) : YAML::Clone(kv.second);
+  }
+  return out;
+}
+
+// The tree of `text` with its `extends` chain resolved; `seen` guards against a cycle.
+YAML::Node resolvedTree(const std::string& text, const std::string& source, std::vector<std::string>& seen) {
+  YAML::Node root = loadYaml(text, source);
+  if (!root || root.IsNull())
+    throw InputError(source, "empty (a config file names every key, or extends a base file that does)");
+  if (!root.IsMap()) throw InputError(source, "expected a mapping at the top");
+  const YAML::Node& const_root = root;
+  const YAML::Node extends = const_root["extends"];
+  if (!extends.IsDefined()) return root;
+  if (!extends.IsScalar() || extends.Scalar().empty())
+    throw InputError(source, "extends: expected the path of a base config file");
+  std::filesystem::path base = extends.Scalar();
+  if (base.is_relative()) base = std::filesystem::path(source).parent_path() / base;
+  const std::string base_path = base.lexically_normal().string();
+  if (std::find(seen.begin(), seen.end(), base_path) != seen.end() || seen.size() > kMaxExtendsDepth)
+    throw InputError(source, "extends: " + base_path + " extends this file again (a cycle)");
+  seen.push_back(base_path);
+  YAML::Node base_tree = resolvedTree(readText(base_path), base_path, seen);
+  root.remove("extends");
+  return merged(base_tree, root);
+}
+
+}  // namespace
+
+ConfigDocument ConfigDocument::load(const std::string& path) { return fromText(readText(path), path); }
+
+ConfigDocument ConfigDocument::fromText(const std::string& yaml_text, const std::string& source) {
+  ConfigDocument doc;
+  std::vector<std::string> seen = {std::filesystem::path(source).lexically_normal().string()};
+  doc.root_ = resolvedTree(yaml_text, source, seen);
+  doc.source_ = source;
+  return doc;
+}
+
+void ConfigDocument::set(const std::string& key, const std::string& value, const std::string& origin) {
+  if (key.empty() || key.front() == '.' || key.back() == '.' || key.find("..") != std::string::npos)
+    throw InputError(origin, "'" + key + "' is not a key (expected section.key, e.g. policy.budget_steps)");
+  std::vector<std::string> parts;
+  std::stringstream in(key);
+  for (std::string part; std::getline(in, part, '.');) parts.push_back(part);
+  // Walk down through mappings, making any missing level: the strict parse then
+  // reports a key that does not exist, naming `origin`.
+  std::vector<YAML::Node> chain = {root_};
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    YAML::Node next = chain.back()[parts[i]];
+    if (next.IsDefined() && !next.IsNull() && !next.IsMap())
+      throw InputError(origin, key + ": " + parts[i] + " is a value, not a section");
+    chain.push_back(next);
+  }
+  YAML::Node parsed = loadYaml(value, origin);
+  chain.back()[parts.back()] = parsed.IsDefined() ? parsed : YAML::Node(YAML::NodeType::Null);
+  origins_[key] = origin;
+}
+
+void ConfigDocument::setAssignment(const std::string& assignment, const std::string& origin) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos) throw InputError(origin, "expected key=value (e.g. policy.budget_steps=30)");
+  set(assignment.substr(0, eq), assignment.substr(eq + 1), origin);
+}
+
+std::string ConfigDocument::yaml() const {
+  YAML::Emitter out;
+  out << root_;
+  return std::string("# valerant configuration, resolved (base files merged, overrides applied) from ") + source_ +
+         "\n" + out.c_str() + "\n";
+}
+
+Config ConfigDocument::parse() const {
   Config c;
-  if (!root || root.IsNull()) return c;
-  Section top(root, "", source);
+  const YAML::Node& root = root_;
+  const std::string& source = source_;
+  Section top(root, "", source, origins_);
   readWorld(top.child("world"), c.world);
   readRollout(top.child("rollout"), c.rollout);
   readPolicy(top.child("policy"), c.policy);
@@ -253,12 +349,10 @@ Config parseConfig(const std::string& yaml_text, const std::string& source) {
   return c;
 }
 
-Config loadConfig(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot read config file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parseConfig(text.str(), path);
+Config loadConfig(const std::string& path) { return ConfigDocument::load(path).parse(); }
+
+Config parseConfig(const std::string& yaml_text, const std::string& source) {
+  return ConfigDocument::fromText(yaml_text, source).parse();
 }
 
 std::string defaultConfigPath() {

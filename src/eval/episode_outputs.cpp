@@ -1,10 +1,10 @@
 #include "valerant/eval/episode_outputs.h"
 
-#include <fstream>
-#include <opencv2/imgcodecs.hpp>
+#include <filesystem>
 #include <opencv2/imgproc.hpp>
 
 #include "valerant/common/error.h"
+#include "valerant/common/output_file.h"
 #include "valerant/common/tum_trajectory.h"
 #include "valerant/eval/episode_truth.h"
 #include "valerant/eval/map_accuracy.h"
@@ -87,12 +87,12 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   cv::Mat topdown = drawTopdown(cloud, episode.grid(), episode.trajectory(), episode.history(), episode.failed(),
                                 config.collision, kTopdownPixelsPerCell);
   cv::cvtColor(topdown, topdown, cv::COLOR_RGB2BGR);
-  if (!cv::imwrite(out + "/topdown.png", topdown)) throw InputError(out + "/topdown.png", "cannot write image");
+  writeImageAtomically(out + "/topdown.png", topdown);
   files.insert(files.end(), {"trajectory.txt", "gt_trajectory.txt", "topdown.png", "decisions.jsonl", "report.json"});
   // The player's view at the end, for viewers of the run (run_publisher's camera image).
   if (cv::Mat view = episode.currentView(); !view.empty()) {
     cv::cvtColor(view, view, cv::COLOR_RGB2BGR);
-    if (!cv::imwrite(out + "/view.png", view)) throw InputError(out + "/view.png", "cannot write image");
+    writeImageAtomically(out + "/view.png", view);
     files.push_back("view.png");
   }
 
@@ -118,7 +118,12 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
     return n;
   }();
   if (map) report["ground_truth"] = groundTruth(episode, *map, cloud);
-  std::ofstream(out + "/report.json") << report.dump(2) << '\n';
+}
+
+void writeRunReport(const std::string& out, const nlohmann::json& report) {
+  writeFileAtomically(out + "/report.json", report.dump(2) + '\n');
+  std::error_code error;  // the snapshot is a convenience copy now: failing to remove it loses nothing
+  std::filesystem::remove_all(runSnapshotDir(out), error);
 }
 
 }  // namespace valerant

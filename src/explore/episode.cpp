@@ -1,6 +1,7 @@
 #include "valerant/explore/episode.h"
 
 #include <chrono>
+#include <cstdint>
 
 #include "valerant/common/error.h"
 #include "valerant/explore/local_branch_pipeline.h"
@@ -83,7 +84,7 @@ cv::Mat Episode::currentView() const {
 
 bool Episode::finished() const {
   return stuck_ || committed_steps_ >= config_.policy.budget_steps ||
-         steps_ >= config_.policy.step_cap_factor * config_.policy.budget_steps;
+         steps_ >= static_cast<std::int64_t>(config_.policy.step_cap_factor) * config_.policy.budget_steps;
 }
 
 StepRecord Episode::step() {

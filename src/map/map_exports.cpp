@@ -7,8 +7,7 @@
 #include <pcl/point_types.h>
 
 #include <filesystem>
-#include <fstream>
-#include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "valerant/common/error.h"
 #include "valerant/common/output_file.h"
@@ -51,13 +50,17 @@ pcl::PointCloud<PointXYZRGBConfidence> toPcl(const std::vector<FusedPoint>& poin
 void writeCloudPly(const std::string& path, const std::vector<FusedPoint>& points, bool overwrite) {
   requireWritable(path, overwrite);
   if (points.empty()) throw InputError(path, "refusing to write an empty point cloud");
-  if (pcl::io::savePLYFileBinary(path, toPcl(points)) != 0) throw InputError(path, "PCL could not write the PLY");
+  const auto cloud = toPcl(points);
+  writeThroughTemporary(path, "PCL's PLY writer",
+                        [&](const std::string& temporary) { return pcl::io::savePLYFileBinary(temporary, cloud) == 0; });
 }
 
 void writeCloudPcd(const std::string& path, const std::vector<FusedPoint>& points, bool overwrite) {
   requireWritable(path, overwrite);
   if (points.empty()) throw InputError(path, "refusing to write an empty point cloud");
-  if (pcl::io::savePCDFileBinary(path, toPcl(points)) != 0) throw InputError(path, "PCL could not write the PCD");
+  const auto cloud = toPcl(points);
+  writeThroughTemporary(path, "PCL's PCD writer",
+                        [&](const std::string& temporary) { return pcl::io::savePCDFileBinary(temporary, cloud) == 0; });
 }
 
 void writeOctreeBt(const std::string& path, const octomap::ColorOcTree& tree, bool overwrite) {
@@ -65,7 +68,9 @@ void writeOctreeBt(const std::string& path, const octomap::ColorOcTree& tree, bo
   // writeBinary thresholds and prunes the tree it writes, which would change a live
   // tree's later updates (live_map.h); a copy is written instead.
   octomap::ColorOcTree copy(tree);
-  if (!copy.writeBinary(path)) throw InputError(path, "OctoMap could not write the .bt file");
+  std::ostringstream bytes;
+  if (!copy.writeBinary(bytes)) throw InputError(path, "OctoMap could not write the .bt file");
+  writeFileAtomically(path, bytes.str());
 }
 
 void writeFloorGrid(const std::string& stem, const FloorGrid& grid, bool overwrite) {
@@ -80,13 +85,13 @@ void writeFloorGrid(const std::string& stem, const FloorGrid& grid, bool overwri
       image.at<uint8_t>(grid.height - 1 - row, col) = v < 0 ? 205 : (v >= 50 ? 0 : 254);
     }
   }
-  if (!cv::imwrite(pgm, image)) throw InputError(pgm, "cannot write the grid image");
-  std::ofstream out(yaml);
+  writeImageAtomically(pgm, image);
+  std::ostringstream out;
   out << "image: " << std::filesystem::path(pgm).filename().string() << "\n"
       << "resolution: " << grid.resolution << "\n"
       << "origin: [" << grid.origin.x() << ", " << grid.origin.y() << ", 0.0]\n"
       << "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
-  if (!out) throw InputError(yaml, "cannot write the grid description");
+  writeFileAtomically(yaml, out.str());
 }
 
 }  // namespace valerant

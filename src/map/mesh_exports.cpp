@@ -103,8 +103,7 @@ void writeMeshObj(const std::string& path, const SurfaceMesh& mesh, const AssetN
                   bool overwrite) {
   requireWritable(path, overwrite);
   requireMesh(path, mesh);
-  std::ofstream out(path);
-  if (!out) throw InputError(path, "cannot write");
+  std::ostringstream out;
   out << "# valerant surface mesh; " << describe(frame) << "\n" << std::setprecision(7);
   auto vertex = [&](const Eigen::Vector3f& p, const std::array<uint8_t, 3>& rgb) {
     out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << rgb[0] / 255.f << ' ' << rgb[1] / 255.f << ' '
@@ -127,7 +126,7 @@ void writeMeshObj(const std::string& path, const SurfaceMesh& mesh, const AssetN
     for (size_t i = 0; i < nodes.path.size(); ++i) out << ' ' << next + i;
     out << '\n';
   }
-  if (!out) throw InputError(path, "write failed (disk full?)");
+  writeFileAtomically(path, out.str());
 }
 
 void writeMeshGlb(const std::string& path, const SurfaceMesh& mesh, const AssetNodes& nodes, const MapFrame& frame,
@@ -188,8 +187,9 @@ void writeMeshGlb(const std::string& path, const SurfaceMesh& mesh, const AssetN
   }
 
   tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToFile(&model, path, true, true, false, true))
-    throw InputError(path, "tinygltf could not write the .glb");
+  writeThroughTemporary(path, "tinygltf's .glb writer", [&](const std::string& temporary) {
+    return writer.WriteGltfSceneToFile(&model, temporary, true, true, false, true);
+  });
 }
 
 }  // namespace valerant

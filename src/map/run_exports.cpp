@@ -41,7 +41,7 @@ const std::vector<std::string>& filesOf(const std::string& format) {
 void writeRgbPng(const std::string& path, const cv::Mat& rgb) {
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-  if (!cv::imwrite(path, bgr)) throw InputError(path, "cannot write image");
+  writeImageAtomically(path, bgr);
 }
 
 // The spawn (feet of the first committed camera, turned about Y to its heading) and the

@@ -7,6 +7,11 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
 
+#include <fcntl.h>
+#include <stdio.h>
+
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -45,6 +50,7 @@ const char* const kKeyframePoses = "keyframes.txt";
 const char* const kTrajectory = "trajectory.txt";
 const char* const kConfig = "config.yaml";
 const char* const kReport = "report.json";
+const char* const kSnapshot = "snapshot";
 
 std::string inside(const std::string& dir, const char* name) { return (fs::path(dir) / name).string(); }
 
@@ -142,13 +148,14 @@ nlohmann::json saveRunMap(const std::string& dir, const RunMap& run, bool overwr
   }
   // PCL refuses to write a cloud without points; an empty map still gets a valid file.
   if (cloud.empty()) {
-    std::ofstream out(points_path);
-    out << "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\n"
-        << "FIELDS x y z rgb confidence h keyframe\nSIZE 4 4 4 4 4 4 4\nTYPE F F F F F F U\n"
-        << "COUNT 1 1 1 1 1 1 1\nWIDTH 0\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 0\nDATA ascii\n";
-    if (!out) throw InputError(points_path, "cannot write");
-  } else if (pcl::io::savePCDFileBinaryCompressed(points_path, cloud) != 0) {
-    throw InputError(points_path, "PCL could not write the PCD");
+    writeFileAtomically(points_path,
+                        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\n"
+                        "FIELDS x y z rgb confidence h keyframe\nSIZE 4 4 4 4 4 4 4\nTYPE F F F F F F U\n"
+                        "COUNT 1 1 1 1 1 1 1\nWIDTH 0\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 0\nDATA ascii\n");
+  } else {
+    writeThroughTemporary(points_path, "PCL's PCD writer", [&](const std::string& temporary) {
+      return pcl::io::savePCDFileBinaryCompressed(temporary, cloud) == 0;
+    });
   }
   writeTumTrajectory(poses_path, poses);
   return {{"frame", toJson(run.frame)},
@@ -158,17 +165,54 @@ nlohmann::json saveRunMap(const std::string& dir, const RunMap& run, bool overwr
           {"trajectory_poses", run.trajectory.size()}};
 }
 
-void saveRunConfig(const std::string& dir, const std::string& config_path, bool overwrite) {
+void saveRunConfig(const std::string& dir, const ConfigDocument& config, bool overwrite) {
   const std::string copy = inside(dir, kConfig);
   requireWritable(copy, overwrite);
-  std::error_code error;
-  fs::copy_file(config_path, copy, fs::copy_options::overwrite_existing, error);
-  if (error) throw InputError(copy, "cannot copy the configuration from " + config_path + ": " + error.message());
+  writeFileAtomically(copy, config.yaml());
+}
+
+std::string runSnapshotDir(const std::string& dir) { return inside(dir, kSnapshot); }
+
+void saveRunSnapshot(const std::string& dir, const RunMap& run, nlohmann::json report) {
+  const std::string config_path = inside(dir, kConfig);
+  requireFile(config_path);
+  const std::string building = inside(dir, ".snapshot.partial");
+  fs::remove_all(building);  // a build a killed process left behind
+  fs::create_directories(building);
+  try {
+    std::ifstream in(config_path, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    if (!in && !in.eof()) throw InputError(config_path, "cannot read");
+    writeFileAtomically(inside(building, kConfig), bytes.str());
+    report["run_map"] = saveRunMap(building, run, false);
+    std::vector<StampedPose> trajectory;
+    for (size_t i = 0; i < run.trajectory.size(); ++i) trajectory.push_back({double(i), run.trajectory[i]});
+    writeTumTrajectory(inside(building, kTrajectory), trajectory);
+    report["snapshot"] = true;
+    writeFileAtomically(inside(building, kReport), report.dump(2) + '\n');
+  } catch (...) {
+    std::error_code ignored;  // the failure itself is what the caller hears about
+    fs::remove_all(building, ignored);
+    throw;
+  }
+  const std::string snapshot = runSnapshotDir(dir);
+  // Swap the new snapshot in: one rename, whether or not an old one is there.
+  if (fs::exists(snapshot)) {
+    if (::renameat2(AT_FDCWD, building.c_str(), AT_FDCWD, snapshot.c_str(), RENAME_EXCHANGE) != 0)
+      throw InputError(snapshot, std::string("cannot swap in the new snapshot: ") + std::strerror(errno));
+    fs::remove_all(building);  // now the old snapshot
+  } else if (::rename(building.c_str(), snapshot.c_str()) != 0) {
+    throw InputError(snapshot, std::string("cannot move the snapshot into place: ") + std::strerror(errno));
+  }
 }
 
 RunMap loadRunMap(const std::string& dir) {
   if (!fs::is_directory(dir)) throw InputError(dir, "no such run directory");
   const std::string report_path = inside(dir, kReport);
+  if (!fs::exists(report_path) && fs::is_regular_file(inside(runSnapshotDir(dir), kReport)))
+    throw InputError(report_path, "missing: the run did not finish; the map of its committed steps is in " +
+                                      runSnapshotDir(dir) + " (a run directory of its own)");
   nlohmann::json report = readJson(report_path);
   if (!report.is_object() || !report.contains("run_map") || !report["run_map"].is_object())
     throw InputError(report_path, "has no run_map (made before runs kept their map; rerun the episode)");

@@ -141,9 +141,7 @@ void writeWalkableJson(const std::string& path, const WalkableArea& area, bool o
       {"clearance_m", area.clearance_m},
       {"area_m2", area.areaSquareMetres()},
       {"polygons", polygons}};
-  std::ofstream out(path);
-  out << json.dump(1) << '\n';
-  if (!out) throw InputError(path, "cannot write");
+  writeFileAtomically(path, json.dump(1) + '\n');
 }
 
 WalkableArea readWalkableJson(const std::string& path) {

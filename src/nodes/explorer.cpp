@@ -12,7 +12,6 @@
 // rollout_timeout_s, result_timeout_s, publish_rate_hz, spinner_threads.
 #include <actionlib/server/simple_action_server.h>
 #include <filesystem>
-#include <fstream>
 #include <geometry_msgs/PoseStamped.h>
 #include <optional>
 #include <ros/ros.h>
@@ -22,7 +21,9 @@
 #include <valerant/MapUpdate.h>
 
 #include "valerant/common/error.h"
+#include "valerant/common/output_file.h"
 #include "valerant/eval/episode_outputs.h"
+#include "valerant/eval/run_directory.h"
 #include "valerant/explore/episode.h"
 #include "valerant/explore/episode_json.h"
 #include "valerant/map/run_map.h"
@@ -42,8 +43,8 @@ class Explorer {
  public:
   Explorer(::ros::NodeHandle nh, ::ros::NodeHandle pnh)
       : nh_(nh),
-        config_(valerant::bridge::loadGraphConfig(nh)),
-        config_file_(valerant::bridge::graphConfigFile(nh)),
+        document_(valerant::bridge::loadGraphConfigDocument(nh)),
+        config_(document_.parse()),
         output_dir_(valerant::bridge::requiredString(pnh, "output_dir")),
         overwrite_(pnh.param("overwrite", false)),
         world_(nh, valerant::bridge::requiredDouble(pnh, "connect_timeout_s"),
@@ -88,8 +89,8 @@ class Explorer {
       server_.setSucceeded(result);
   }
 
-  // The goal's configuration: the graph's, with its budget and output directory.
-  Config configFor(const valerant::ExploreGoal& goal) const {
+  // The goal's configuration: the graph's, with its budget (checked as the file's is).
+  ConfigDocument configFor(const valerant::ExploreGoal& goal) const {
     if (!goal.world.empty() && goal.world != config_.world.map)
       throw InputError("world '" + goal.world + "'", "the graph runs '" + config_.world.map + "' (relaunch with map:=)");
     if (goal.spawn >= 0 && goal.spawn != config_.world.spawn)
@@ -98,38 +99,46 @@ class Explorer {
     if (goal.seed >= 0 && static_cast<uint32_t>(goal.seed) != config_.world.seed)
       throw InputError("seed " + std::to_string(goal.seed),
                        "the graph runs seed " + std::to_string(config_.world.seed) + " (relaunch with seed:=)");
-    Config c = config_;
-    if (goal.budget > 0) c.policy.budget_steps = static_cast<int>(goal.budget);
+    ConfigDocument c = document_;
+    if (goal.budget > 0) c.set("policy.budget_steps", std::to_string(goal.budget), "goal budget " + std::to_string(goal.budget));
     return c;
   }
 
   valerant::ExploreResult run(const valerant::ExploreGoal& goal, const std::function<bool()>& stop) {
     valerant::ExploreResult result;
     try {
-      const Config config = configFor(goal);
+      const ConfigDocument document = configFor(goal);
+      const Config config = document.parse();
       const std::string out = goal.output_dir.empty() ? output_dir_ : goal.output_dir;
-      fs::create_directories(out);
-      saveRunConfig(out, config_file_, overwrite_);
+      prepareRunDirectory(out, overwrite_ ? RunStart::kForce : RunStart::kNew);
+      saveRunConfig(out, document, false);
       world_.reset();
       Episode episode(world_, pipeline_, arbiter_, config);
       publishMap(episode, 0);
-      std::ofstream decisions(out + "/decisions.jsonl");
+      AppendOnlyLog decisions(out + "/decisions.jsonl", false);
+      nlohmann::json report = {{"tool", "explorer"}, {"map", config.world.map}, {"spawn", config.world.spawn},
+                               {"slam", config.slam.backend}, {"policy", config.policy.kind},
+                               {"seed", config.world.seed}, {"budget", config.policy.budget_steps},
+                               {"rf", config.floor.enabled}, {"col_pc", config.collision.pointcloud_enabled},
+                               {"col_depth", config.collision.depth_enabled}, {"dp", config.dead_pocket.enabled}};
       while (!episode.finished() && !stop()) {
         const StepRecord r = episode.step();
-        decisions << toJson(r).dump() << '\n' << std::flush;
+        decisions.writeLine(toJson(r).dump());
+        if (r.chosen >= 0 || r.rewind) {
+          nlohmann::json snapshot = report;
+          snapshot["steps"] = r.step;
+          snapshot["committed_steps"] = episode.committedSteps();
+          saveRunSnapshot(out, runMapOf(episode), snapshot);
+        }
         publishStep(episode, r);
         ROS_INFO_STREAM("explorer: step " << r.step << ": "
                                           << (r.chosen >= 0 ? r.candidates[r.chosen].verdict.candidate : "stall")
                                           << (r.rewind ? " + rewind" : "") << " (" << r.wall_seconds << " s)");
       }
       result.preempted = !episode.finished();
-      nlohmann::json report = {{"tool", "explorer"}, {"map", config.world.map}, {"spawn", config.world.spawn},
-                               {"slam", config.slam.backend}, {"policy", config.policy.kind},
-                               {"seed", config.world.seed}, {"budget", config.policy.budget_steps},
-                               {"interrupted", result.preempted}, {"rf", config.floor.enabled},
-                               {"col_pc", config.collision.pointcloud_enabled},
-                               {"col_depth", config.collision.depth_enabled}, {"dp", config.dead_pocket.enabled}};
-      writeEpisodeOutputs(episode, truth_map_.get(), out, overwrite_, report);
+      report["interrupted"] = result.preempted;
+      writeEpisodeOutputs(episode, truth_map_.get(), out, true, report);
+      writeRunReport(out, report);
       for (const auto& f : report["files"]) result.map_files.push_back(out + "/" + f.get<std::string>());
       result.committed_steps = static_cast<uint32_t>(episode.committedSteps());
       result.steps = static_cast<uint32_t>(episode.history().size());
@@ -211,8 +220,8 @@ class Explorer {
   }
 
   ::ros::NodeHandle nh_;
+  ConfigDocument document_;  // written into every run directory (valerant_export reads it)
   Config config_;
-  std::string config_file_;  // copied into every run directory (valerant_export reads it)
   std::string output_dir_;
   bool overwrite_;
   valerant::bridge::WorldModelClient world_;

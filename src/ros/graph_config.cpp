@@ -2,15 +2,32 @@
 
 #include <ros/param.h>
 
+#include <iomanip>
+#include <sstream>
+#include <utility>
+
 #include "valerant/common/error.h"
 
 namespace valerant::bridge {
 namespace {
 
-template <class T>
-void override(const ::ros::NodeHandle& nh, const std::string& ns, const std::string& key, T& value) {
-  T v;
-  if (nh.getParam(ns + "/" + key, v)) value = v;
+// A parameter's value as the YAML text of an override.
+std::string yamlText(const XmlRpc::XmlRpcValue& v, const std::string& name) {
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      return static_cast<bool>(const_cast<XmlRpc::XmlRpcValue&>(v)) ? "true" : "false";
+    case XmlRpc::XmlRpcValue::TypeInt:
+      return std::to_string(static_cast<int>(const_cast<XmlRpc::XmlRpcValue&>(v)));
+    case XmlRpc::XmlRpcValue::TypeDouble: {
+      std::ostringstream text;
+      text << std::setprecision(17) << static_cast<double>(const_cast<XmlRpc::XmlRpcValue&>(v));
+      return text.str();
+    }
+    case XmlRpc::XmlRpcValue::TypeString:
+      return static_cast<std::string>(const_cast<XmlRpc::XmlRpcValue&>(v));
+    default:
+      throw InputError("parameter " + name, "expected a number, a string or true/false");
+  }
 }
 
 std::string configNamespace(const ::ros::NodeHandle& nh) {
@@ -25,35 +42,31 @@ std::string configNamespace(const ::ros::NodeHandle& nh) {
 
 }  // namespace
 
-std::string graphConfigFile(const ::ros::NodeHandle& nh) {
+ConfigDocument loadGraphConfigDocument(const ::ros::NodeHandle& nh) {
+  const std::string ns = configNamespace(nh);
   std::string file;
-  nh.getParam(configNamespace(nh) + "/file", file);
-  return file.empty() ? defaultConfigPath() : file;
+  nh.getParam(ns + "/file", file);
+  ConfigDocument doc = ConfigDocument::load(file.empty() ? defaultConfigPath() : file);
+  // Launch arguments, each standing for one key of the file.
+  static const std::pair<const char*, const char*> kParameterKeys[] = {
+      {"map", "world.map"},         {"spawn", "world.spawn"},
+      {"seed", "world.seed"},       {"backend", "world.backend"},
+      {"width", "world.width"},     {"height", "world.height"},
+      {"slam", "slam.backend"},     {"budget", "policy.budget_steps"},
+      {"policy", "policy.kind"},    {"rf", "floor.enabled"},
+      {"col_pc", "collision.pointcloud_enabled"}, {"col_depth", "collision.depth_enabled"},
+      {"dp", "dead_pocket.enabled"}};
+  for (const auto& [parameter, key] : kParameterKeys) {
+    const std::string name = ns + "/" + parameter;
+    XmlRpc::XmlRpcValue value;
+    if (!nh.getParam(name, value)) continue;
+    const std::string text = yamlText(value, name);
+    doc.set(key, text, "parameter " + name + " (" + text + ")");
+  }
+  return doc;
 }
 
-Config loadGraphConfig(const ::ros::NodeHandle& nh) {
-  const std::string ns = configNamespace(nh);
-  Config c = loadConfig(graphConfigFile(nh));
-  override(nh, ns, "map", c.world.map);
-  override(nh, ns, "spawn", c.world.spawn);
-  int seed = static_cast<int>(c.world.seed);
-  override(nh, ns, "seed", seed);
-  if (seed < 0) throw InputError("parameter " + ns + "/seed", "must be >= 0");
-  c.world.seed = static_cast<uint32_t>(seed);
-  override(nh, ns, "backend", c.world.backend);
-  override(nh, ns, "width", c.world.width);
-  override(nh, ns, "height", c.world.height);
-  override(nh, ns, "slam", c.slam.backend);
-  override(nh, ns, "budget", c.policy.budget_steps);
-  override(nh, ns, "policy", c.policy.kind);
-  override(nh, ns, "rf", c.floor.enabled);
-  override(nh, ns, "col_pc", c.collision.pointcloud_enabled);
-  override(nh, ns, "col_depth", c.collision.depth_enabled);
-  override(nh, ns, "dp", c.dead_pocket.enabled);
-  if (c.policy.budget_steps < 1) throw InputError("parameter " + ns + "/budget", "must be >= 1");
-  if (c.world.width < 1 || c.world.height < 1) throw InputError("parameter " + ns + "/width, height", "must be >= 1");
-  return c;
-}
+Config loadGraphConfig(const ::ros::NodeHandle& nh) { return loadGraphConfigDocument(nh).parse(); }
 
 double requiredDouble(const ::ros::NodeHandle& private_nh, const std::string& name) {
   double v;

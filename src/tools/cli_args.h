@@ -16,21 +16,29 @@ namespace valerant::tools {
 
 class CliArgs {
  public:
-  // `options` take a value, `flags` do not.
+  // `options` take a value, `flags` do not; every tool also takes `--set key=value`
+  // (repeatable: configuration overrides, tool_config.h).
   CliArgs(int argc, char** argv, const std::set<std::string>& options,
           const std::set<std::string>& flags = {}) {
     for (int i = 1; i < argc; ++i) {
       const std::string arg = argv[i];
       if (flags.count(arg)) {
         values_[arg] = "1";
-      } else if (options.count(arg)) {
+      } else if (options.count(arg) || arg == kSet) {
         if (i + 1 >= argc) throw InputError(arg, "needs a value");
-        values_[arg] = argv[++i];
+        if (arg == kSet) {
+          sets_.push_back(argv[++i]);
+        } else {
+          values_[arg] = argv[++i];
+        }
       } else {
         throw InputError(arg, "unknown option");
       }
     }
   }
+  static constexpr const char* kSet = "--set";
+  // Every `--set` value, in command-line order.
+  const std::vector<std::string>& sets() const { return sets_; }
   bool has(const std::string& key) const { return values_.count(key) > 0; }
   std::string get(const std::string& key, const std::string& fallback = "") const {
     auto it = values_.find(key);
@@ -65,6 +73,7 @@ class CliArgs {
 
  private:
   std::map<std::string, std::string> values_;
+  std::vector<std::string> sets_;
 };
 
 }  // namespace valerant::tools

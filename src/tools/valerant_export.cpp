@@ -95,9 +95,7 @@ int main(int argc, char** argv) {
     if (std::count(formats.begin(), formats.end(), "walkable"))
       report["ground_truth"] = walkableGroundTruth(run, run_dir, (fs::path(out) / "walkable.json").string());
     report["files"].push_back("report.json");
-    std::ofstream report_file(report_path);
-    report_file << report.dump(2) << '\n';
-    if (!report_file) throw InputError(report_path, "cannot write");
+    writeFileAtomically(report_path, report.dump(2) + '\n');
     std::cout << report.dump() << std::endl;
     return 0;
   } catch (const std::exception& e) {

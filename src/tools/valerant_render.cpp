@@ -12,7 +12,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_args.h"
+#include "tool_config.h"
 #include "valerant/common/contact_sheet.h"
+#include "valerant/common/output_file.h"
 #include "valerant/common/tum_trajectory.h"
 #include "valerant/world/quake3/quake3_world.h"
 
@@ -40,14 +42,14 @@ void writePng(const std::string& path, const cv::Mat& rgb_or_depth) {
   } else {
     out = rgb_or_depth;
   }
-  if (!cv::imwrite(path, out)) throw InputError(path, "cannot write image");
+  writeImageAtomically(path, out);
 }
 
 nlohmann::json writeRollout(const Rollout& r, const std::string& dir, int every) {
   fs::create_directories(dir + "/rgb");
   fs::create_directories(dir + "/depth");
   std::vector<StampedPose> poses;
-  std::ofstream solid(dir + "/in_solid.txt");
+  std::ostringstream solid;
   solid << "# frame in_solid floor_z\n";
   int in_solid = 0;
   for (size_t i = 0; i < r.frames.size(); ++i) {
@@ -61,6 +63,7 @@ nlohmann::json writeRollout(const Rollout& r, const std::string& dir, int every)
     solid << i << ' ' << r.truth[i].in_solid << ' ' << r.truth[i].floor_z << '\n';
     in_solid += r.truth[i].in_solid;
   }
+  writeFileAtomically(dir + "/in_solid.txt", solid.str());
   writeTumTrajectory(dir + "/gt_trajectory.txt", poses);
   writePng(dir + "/contact_sheet.png", makeContactSheet(r.frames, r.candidate));
   return {{"candidate", r.candidate}, {"frames", r.frames.size()}, {"in_solid_frames", in_solid}, {"dir", dir}};
@@ -71,9 +74,8 @@ nlohmann::json writeRollout(const Rollout& r, const std::string& dir, int every)
 int main(int argc, char** argv) {
   try {
     tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidate", "--config", "--out", "--every"});
-    Config config = loadConfig(args.get("--config", defaultConfigPath()));
-    config.world.map = args.get("--map", config.world.map);
-    config.world.spawn = args.integer("--spawn", config.world.spawn);
+    const Config config =
+        tools::toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}}).parse();
     const std::string out = args.required("--out");
     const int every = args.integer("--every", 1);
     if (every < 1) throw InputError("--every", "must be >= 1");

@@ -17,6 +17,8 @@
 
 #include "cli_args.h"
 #include "thread_clock.h"
+#include "tool_config.h"
+#include "valerant/common/output_file.h"
 #include "valerant/common/tum_trajectory.h"
 #include "valerant/eval/trajectory_metrics.h"
 #include "valerant/map/map_exports.h"
@@ -35,7 +37,7 @@ using Clock = tools::ThreadClock;
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 void writeImage(const std::string& path, const cv::Mat& image) {
-  if (!cv::imwrite(path, image)) throw InputError(path, "cannot write image");
+  writeImageAtomically(path, image);
 }
 
 void writeCloud(const std::string& path, const std::vector<KeyframeCloud>& clouds) {
@@ -138,10 +140,10 @@ nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context
 int main(int argc, char** argv) {
   try {
     tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--config", "--out"});
-    Config config = loadConfig(args.get("--config", defaultConfigPath()));
-    config.world.map = args.get("--map", config.world.map);
-    config.world.spawn = args.integer("--spawn", config.world.spawn);
-    const std::string backend = args.get("--slam", config.slam.backend);
+    const Config config =
+        tools::toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}, {"--slam", "slam.backend"}})
+            .parse();
+    const std::string backend = config.slam.backend;
     const std::string out = args.required("--out");
     std::vector<ActionSequence> sequences;  // validated before any rendering
     for (const auto& c : args.list("--candidates", "uw,jw,lw,jq,lq"))

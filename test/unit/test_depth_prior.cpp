@@ -151,7 +151,8 @@ TEST(DepthPriorConfig, DefaultIsNoPrior) {
 
 TEST(DepthPriorConfig, UnknownValueIsAnErrorNamingTheKey) {
   try {
-    parseConfig("slam:\n  depth_prior: bogus\n", "test.yaml");
+    parseConfig("extends: " + std::string(VALERANT_SOURCE_DIR) + "/config/valerant.yaml\nslam:\n  depth_prior: bogus\n",
+                "test.yaml");
     FAIL() << "depth_prior: bogus was accepted";
   } catch (const InputError& e) {
     const std::string error = e.what();
@@ -163,7 +164,8 @@ TEST(DepthPriorConfig, UnknownValueIsAnErrorNamingTheKey) {
 
 TEST(DepthPriorConfig, LearnedLoadsTheModelRelativeToTheSourceTree) {
   const Config c = parseConfig(
-      "slam:\n  depth_prior: learned\n  depth_prior_model: test/data/depth_prior_linear.onnx\n", "test.yaml");
+      "extends: " + std::string(VALERANT_SOURCE_DIR) +
+          "/config/valerant.yaml\nslam:\n  depth_prior: learned\n  depth_prior_model: test/data/depth_prior_linear.onnx\n", "test.yaml");
   const auto prior = loadDepthPrior(c.slam);
   ASSERT_NE(prior, nullptr);
   EXPECT_EQ(prior->modelPath(), kLinearModel);

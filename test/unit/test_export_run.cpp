@@ -81,7 +81,7 @@ std::string freshDir(const std::string& name) {
 
 // The files valerant_explore leaves for the export.
 void saveRun(const RunMap& run, const std::string& dir) {
-  saveRunConfig(dir, defaultConfigPath(), false);
+  saveRunConfig(dir, ConfigDocument::load(defaultConfigPath()), false);
   nlohmann::json report = {{"tool", "valerant_explore"}, {"run_map", saveRunMap(dir, run, false)}};
   std::vector<StampedPose> poses;
   for (size_t i = 0; i < run.trajectory.size(); ++i) poses.push_back({static_cast<double>(i), run.trajectory[i]});

@@ -1,10 +1,15 @@
 #pragma once
 // Typed configuration of valerant, loaded from config/valerant.yaml. Every default is
 // the paper's value (appendix A) or, for the engine world, the Quake III value; the
-// YAML file documents where each number comes from. Loading is strict: an unknown key,
-// a wrong type or an out-of-range value throws InputError naming the file and key.
+// YAML file documents where each number comes from. Loading is strict: a missing key,
+// an unknown key, a wrong type or an out-of-range value throws InputError naming the
+// file (or the flag that set it) and the key.
+#include <yaml-cpp/yaml.h>
+
 #include <cstdint>
+#include <map>
 #include <string>
+#include <vector>
 
 namespace valerant {
 
@@ -157,9 +162,37 @@ struct Config {
   ExportConfig exports;
 };
 
-// Loads and validates a YAML file; keys left out keep their defaults.
+// One configuration as text: a YAML file whose `extends: BASE` (a path relative to the
+// file) is merged under it, then overrides (`--set key=value`, a tool's flags, ROS
+// parameters) applied on top. Parsing requires every key, so a truncated file is an
+// error, never a silent default; an error in an overridden key names the override.
+class ConfigDocument {
+ public:
+  static ConfigDocument load(const std::string& path);
+  // `source` names the text in errors; a relative `extends` is found beside it.
+  static ConfigDocument fromText(const std::string& yaml_text, const std::string& source);
+
+  // Sets `key` (dotted: "policy.budget_steps") to `value` (YAML scalar text); `origin`
+  // ("--budget 20", "parameter /valerant/budget") is what errors about it will name.
+  void set(const std::string& key, const std::string& value, const std::string& origin);
+  // "key=value", as `--set` takes it.
+  void setAssignment(const std::string& assignment, const std::string& origin);
+
+  Config parse() const;
+  // The merged, overridden tree as one self-contained YAML file (no `extends`): what a
+  // run directory keeps, so the run can be repeated from it alone.
+  std::string yaml() const;
+  const std::string& source() const { return source_; }
+
+ private:
+  YAML::Node root_;
+  std::string source_;
+  std::map<std::string, std::string> origins_;  // overridden key -> what set it
+};
+
+// ConfigDocument::load(path).parse().
 Config loadConfig(const std::string& path);
-// Same, from YAML text; `source` names it in errors.
+// ConfigDocument::fromText(yaml_text, source).parse().
 Config parseConfig(const std::string& yaml_text, const std::string& source);
 // config/valerant.yaml of the source tree (VALERANT_CONFIG overrides).
 std::string defaultConfigPath();

@@ -5,9 +5,10 @@
 // mesh.glb, walkable.json, overview.png, orbit.png), the map kept for valerant_export
 // (map/run_map.h: keyframes.pcd, keyframes.txt; config.yaml must be saved first with
 // saveRunConfig), trajectory.txt (TUM, SLAM frame), gt_trajectory.txt (TUM, BSP frame,
-// game units), topdown.png, view.png (the last committed frame) and report.json (with
-// the ground-truth figures when the engine map is given). decisions.jsonl is the
-// caller's, written step by step.
+// game units), topdown.png, view.png (the last committed frame) and, last,
+// report.json (with the ground-truth figures when the engine map is given): its
+// presence marks the run complete (run_directory.h). decisions.jsonl is the caller's,
+// written step by step. Every file is written atomically (common/output_file.h).
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -16,9 +17,12 @@
 
 namespace valerant {
 
-// Adds files, statistics and ground truth to `report` and writes it as report.json.
-// `map`: the engine map the episode ran on (null: no ground-truth figures).
+// Writes every output but report.json and adds files, statistics and ground truth to
+// `report`. `map`: the engine map the episode ran on (null: no ground-truth figures).
 void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, const std::string& out, bool overwrite,
                          nlohmann::json& report);
+// Writes `report` as `out`/report.json, the run's last file, and then removes the
+// snapshot of its committed steps, which the final files supersede.
+void writeRunReport(const std::string& out, const nlohmann::json& report);
 
 }  // namespace valerant

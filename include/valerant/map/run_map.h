@@ -5,8 +5,8 @@
 //                   h (floor-normalised height) and keyframe (index of its keyframe)
 //   keyframes.txt   keyframe camera poses, map frame (TUM; stamp = keyframe index)
 //   trajectory.txt  committed camera poses, map frame (TUM; written by valerant_explore)
-//   config.yaml     the configuration file the run loaded (command-line switches such
-//                   as --no-rf are in report.json; none of them changes an export)
+//   config.yaml     the run's whole configuration (base files merged, the tool's flags
+//                   and --set overrides applied: config.h ConfigDocument::yaml)
 //   report.json     "run_map": the map frame (map_frame.h) and the number of keyframes,
 //                   points, trajectory poses and config bytes, so a truncated file is caught
 #include <Eigen/Geometry>
@@ -43,9 +43,18 @@ RunMap runMapOf(const Episode& episode);
 // already: saveRunConfig); returns the "run_map" object for report.json. Never
 // overwrites unless asked.
 nlohmann::json saveRunMap(const std::string& dir, const RunMap& run, bool overwrite);
-// Copies the configuration file a run loaded to `dir`/config.yaml (the tool that
-// loaded it knows its path).
-void saveRunConfig(const std::string& dir, const std::string& config_path, bool overwrite);
+// Writes the run's configuration to `dir`/config.yaml.
+void saveRunConfig(const std::string& dir, const ConfigDocument& config, bool overwrite);
+
+// The map of the steps committed so far, kept in `dir`/snapshot as a small run
+// directory of its own (config.yaml, keyframes.pcd, keyframes.txt, trajectory.txt and a
+// report.json holding `report` with its run_map) that loadRunMap and valerant_export
+// read. The new snapshot is built beside the old one and swapped in with one atomic
+// rename, so a process killed at any moment leaves a whole snapshot. `dir` must hold
+// config.yaml.
+void saveRunSnapshot(const std::string& dir, const RunMap& run, nlohmann::json report);
+// The folder saveRunSnapshot keeps: `dir`/snapshot.
+std::string runSnapshotDir(const std::string& dir);
 
 // Reads a finished run directory. A missing, truncated or inconsistent file throws
 // InputError naming that file.

@@ -6,7 +6,9 @@
 //   map spawn seed slam backend width height budget policy   overrides of the file
 //   rf col_pc col_depth dp                                      ablation switches (bool)
 // Every node reads the same values, so all of them build the same action sequences,
-// floor estimators and collision tests as valerant_explore with the same flags.
+// floor estimators and collision tests as valerant_explore with the same flags. The
+// parameters are overrides of the file's keys (config.h ConfigDocument), checked as
+// strictly as the file: a bad value is an error naming the parameter.
 #include <ros/node_handle.h>
 #include <string>
 
@@ -14,10 +16,10 @@
 
 namespace valerant::bridge {
 
-// Throws InputError for a bad file or value.
+// The file with the parameters applied; throws InputError for a bad file or value.
+ConfigDocument loadGraphConfigDocument(const ::ros::NodeHandle& nh);
+// loadGraphConfigDocument(nh).parse().
 Config loadGraphConfig(const ::ros::NodeHandle& nh);
-// The YAML file loadGraphConfig reads (a run directory keeps a copy of it).
-std::string graphConfigFile(const ::ros::NodeHandle& nh);
 
 // A private parameter that must be set (launch files give every one); InputError names it.
 double requiredDouble(const ::ros::NodeHandle& private_nh, const std::string& name);

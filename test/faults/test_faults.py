@@ -1,0 +1,303 @@
+#!/usr/bin/python3
+"""Fault injection against the built tools: a full disk at every output file, a real
+file-size limit, kills at random moments of an episode, reruns into unfinished run
+folders, bad numbers on the command line, signals, broken map files and malformed
+evaluation folders. Every fault must end in a clear error naming its input (or a
+complete run), never a hang, a truncated file under a final name or a lost map.
+
+  test_faults.py [--xml DIR]   # DIR: JUnit XML for scripts/count_test_results
+
+Needs a build (VALERANT_BUILD, default .ws/build) and the OpenArena maps. The episodes
+use the oracle SLAM and 1-4 steps, so the suite runs in a few minutes on 2 cores."""
+import argparse
+import json
+import os
+import random
+import resource
+import shutil
+import signal
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+import zipfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.environ.get("VALERANT_BUILD", os.path.join(ROOT, ".ws", "build"))
+BIN = os.path.join(BUILD, "devel", "lib", "valerant")
+EPISODE = ["--slam", "oracle", "--map", "oa_dm1", "--spawn", "0"]
+TIMEOUT = 300  # seconds: any tool that runs longer than this hangs
+# The files a finished run holds whatever its map (the map exports need points and are
+# checked where a run makes them).
+ALWAYS_WRITTEN = ["config.yaml", "decisions.jsonl", "keyframes.pcd", "keyframes.txt", "trajectory.txt",
+                  "gt_trajectory.txt", "topdown.png", "view.png", "report.json", "grid.pgm", "grid.yaml",
+                  "walkable.json"]
+SNAPSHOT_FILES = ["config.yaml", "keyframes.pcd", "keyframes.txt", "trajectory.txt", "report.json"]
+MAP_EXPORTS = ["map.ply", "map.pcd", "map.bt", "mesh.obj", "mesh.glb", "overview.png", "orbit.png"]
+
+
+def tool(name):
+    return os.path.join(BIN, name)
+
+
+def run(args, env=None, preexec_fn=None, timeout=TIMEOUT):
+    """Runs a tool; returns (exit status, stdout, stderr)."""
+    merged = dict(os.environ, **(env or {}))
+    done = subprocess.run(args, capture_output=True, text=True, env=merged, preexec_fn=preexec_fn, timeout=timeout)
+    return done.returncode, done.stdout, done.stderr
+
+
+def explore(out, budget, *extra, env=None, preexec_fn=None):
+    return run([tool("valerant_explore"), *EPISODE, "--budget", str(budget), "--out", out, *extra], env=env,
+               preexec_fn=preexec_fn)
+
+
+def partial_files(folder):
+    """Temporary files of interrupted atomic writes, anywhere under `folder`."""
+    found = []
+    for here, dirs, files in os.walk(folder):
+        found += [os.path.join(here, f) for f in files + dirs if ".partial" in f]
+    return found
+
+
+def complete_report(folder):
+    """report.json of a finished run, or None."""
+    try:
+        with open(os.path.join(folder, "report.json")) as handle:
+            report = json.load(handle)
+    except (OSError, ValueError):
+        return None
+    return report if isinstance(report, dict) and "tool" in report else None
+
+
+class Faults(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        for name in ("valerant_explore", "valerant_export", "valerant_eval"):
+            if not os.access(tool(name), os.X_OK):
+                raise unittest.SkipTest(tool(name) + " is not built")
+        cls.scratch = tempfile.mkdtemp(prefix="valerant_faults_")
+        # One finished run: the reference for what a complete run holds.
+        cls.reference = os.path.join(cls.scratch, "reference")
+        status, _, err = explore(cls.reference, 2)
+        assert status == 0, err
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.scratch, ignore_errors=True)
+
+    def folder(self, name):
+        path = os.path.join(self.scratch, name)
+        shutil.rmtree(path, ignore_errors=True)
+        return path
+
+    def assertFilesWhole(self, out):
+        """Every file under a final name is whole: JSON parses, a PNG ends with its IEND
+        chunk, a TUM trajectory has 8 numbers a line, a log has whole lines."""
+        for here, _, files in os.walk(out):
+            for name in files:
+                if name.startswith("."):
+                    continue  # a temporary file a kill left: never read, removed by --resume/--force
+                path = os.path.join(here, name)
+                with open(path, "rb") as handle:
+                    data = handle.read()
+                if name.endswith(".json"):
+                    json.loads(data)
+                elif name.endswith(".png"):
+                    self.assertTrue(data.startswith(b"\x89PNG") and data.endswith(b"IEND\xaeB`\x82"), path)
+                elif name.endswith(".txt"):
+                    for line in data.decode().splitlines():
+                        if line and not line.startswith("#"):
+                            self.assertEqual(len(line.split()), 8, path)
+                elif name.endswith(".jsonl"):
+                    self.assertTrue(data == b"" or data.endswith(b"\n"), path)
+
+    def assertUnfinishedAndWhole(self, out):
+        """No report, no leftover temporary file, and the rerun without a flag refuses."""
+        self.assertIsNone(complete_report(out), out)
+        self.assertEqual(partial_files(out), [], out)
+        self.assertFilesWhole(out)
+        status, _, err = explore(out, 2)
+        self.assertEqual(status, 1)
+        self.assertIn("unfinished run", err)
+        self.assertIn("--resume", err)
+
+    def test_reference_run_is_complete(self):
+        report = complete_report(self.reference)
+        self.assertIsNotNone(report)
+        for name in ALWAYS_WRITTEN + MAP_EXPORTS:
+            self.assertTrue(os.path.isfile(os.path.join(self.reference, name)), name)
+        self.assertFalse(os.path.exists(os.path.join(self.reference, "snapshot")), "a finished run keeps no snapshot")
+        self.assertEqual(partial_files(self.reference), [])
+
+    def test_disk_full_at_each_output_file(self):
+        # VALERANT_FAIL_WRITES makes the writer of the file whose path ends so fail as a
+        # full disk does: each final file, and each file of the snapshot taken per step.
+        cases = [("full_" + name, name) for name in ALWAYS_WRITTEN + MAP_EXPORTS]
+        cases += [("full_snapshot_" + name, ".snapshot.partial/" + name) for name in SNAPSHOT_FILES]
+        for folder, item in cases:
+            name = os.path.basename(item)
+            with self.subTest(file=item):
+                out = self.folder(folder)
+                if not item.startswith("."):
+                    item = folder + "/" + item  # the final file, not the snapshot's copy
+                status, out_text, err = explore(out, 1, env={"VALERANT_FAIL_WRITES": item})
+                self.assertEqual(status, 1, err)
+                self.assertEqual(out_text, "", "no success line")
+                self.assertIn(name, err)
+                self.assertIn("No space left on device", err)
+                if name != "config.yaml":  # without its config the folder holds no run at all
+                    self.assertUnfinishedAndWhole(out)
+
+    def test_file_size_limit_fails_cleanly(self):
+        # A real write failure: the kernel refuses to grow any file past 64 KiB (EFBIG;
+        # SIGXFSZ ignored, as a shell's `ulimit -f` with a trapped signal would).
+        def limit():
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+            resource.setrlimit(resource.RLIMIT_FSIZE, (64 * 1024, 64 * 1024))
+
+        out = self.folder("fsize")
+        status, _, err = explore(out, 1, preexec_fn=limit)
+        self.assertEqual(status, 1, err)
+        # The error names the file (PCL's own message may not carry errno's text).
+        self.assertRegex(err.splitlines()[-1], "^valerant_explore: error: " + out + "/")
+        self.assertIsNone(complete_report(out))
+        self.assertEqual(partial_files(out), [])
+        for name in os.listdir(out):  # nothing cut: every file under a final name is whole
+            path = os.path.join(out, name)
+            if os.path.isfile(path):
+                self.assertLess(os.path.getsize(path), 64 * 1024, name)
+
+    def test_kill_at_random_moments(self):
+        rng = random.Random(7)
+        for attempt in range(3):
+            with self.subTest(attempt=attempt):
+                out = self.folder("kill_%d" % attempt)
+                delay = rng.uniform(1.0, 8.0)
+                child = subprocess.Popen([tool("valerant_explore"), *EPISODE, "--budget", "4", "--out", out],
+                                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                time.sleep(delay)
+                child.kill()
+                child.wait()
+                self.assertFilesWhole(out)
+                if complete_report(out) is not None:
+                    continue  # it finished before the kill: a complete run is fine too
+                # The map of the committed steps is recoverable from the snapshot.
+                snapshot = os.path.join(out, "snapshot")
+                if os.path.isdir(snapshot):
+                    export = self.folder("kill_export_%d" % attempt)
+                    status, _, err = run([tool("valerant_export"), "--run", snapshot, "--out", export,
+                                          "--formats", "pcd,grid"])
+                    self.assertEqual(status, 0, err)
+                # --resume replays the recorded steps and finishes the run.
+                status, _, err = run([tool("valerant_explore"), "--resume", "--out", out])
+                self.assertEqual(status, 0, err)
+                report = complete_report(out)
+                self.assertIsNotNone(report)
+                self.assertEqual(report["budget"], 4)
+                with open(os.path.join(out, "decisions.jsonl")) as handle:
+                    steps = [json.loads(line)["step"] for line in handle]
+                self.assertEqual(steps, list(range(1, len(steps) + 1)))
+                self.assertEqual(partial_files(out), [])
+
+    def test_rerun_into_a_partial_folder(self):
+        out = self.folder("partial")
+        status, _, err = explore(out, 1, env={"VALERANT_FAIL_WRITES": "report.json"})
+        self.assertEqual(status, 1, err)
+        status, _, err = explore(out, 1)
+        self.assertEqual(status, 1)
+        self.assertIn("pass --resume to continue it or --force to replace it", err)
+        status, _, err = explore(out, 1, "--force")
+        self.assertEqual(status, 0, err)
+        self.assertIsNotNone(complete_report(out))
+        status, _, err = explore(out, 1)
+        self.assertEqual(status, 1)
+        self.assertIn("holds a finished run already", err)
+        status, _, err = run([tool("valerant_explore"), "--resume", "--out", out])
+        self.assertEqual(status, 1)
+        self.assertIn("nothing to resume", err)
+
+    def test_resume_refuses_a_run_that_decides_otherwise(self):
+        out = self.folder("diverged")
+        status, _, err = explore(out, 2, env={"VALERANT_FAIL_WRITES": "report.json"})
+        self.assertEqual(status, 1, err)
+        with open(os.path.join(out, "decisions.jsonl")) as handle:
+            lines = [json.loads(line) for line in handle]
+        lines[0]["chosen"] = "lq" if lines[0]["chosen"] != "lq" else "jq"
+        with open(os.path.join(out, "decisions.jsonl"), "w") as handle:
+            handle.write("".join(json.dumps(line) + "\n" for line in lines) + '{"step": 3, "cut by a ki')
+        status, _, err = run([tool("valerant_explore"), "--resume", "--out", out])
+        self.assertEqual(status, 1)
+        self.assertIn("step 1: the resumed episode's chosen is", err)
+        self.assertIsNone(complete_report(out))
+
+    def test_huge_and_bad_numbers_are_errors_naming_the_flag(self):
+        out = self.folder("huge")
+        for flags, message in [(["--budget", "1000000000"], "--budget 1000000000: policy.budget_steps: value"),
+                               (["--budget", "0"], "--budget 0: policy.budget_steps: value 0 outside"),
+                               (["--spawn", "99999999999"], "--spawn 99999999999: world.spawn"),
+                               (["--set", "policy.budget_step=3"], "policy.budget_step: unknown key"),
+                               (["--set", "collision.body_radius=-1"], "collision.body_radius: value -1 outside")]:
+            with self.subTest(flags=flags):
+                status, _, err = run([tool("valerant_explore"), *EPISODE, *flags, "--out", out])
+                self.assertEqual(status, 1, err)
+                self.assertIn(message, err)
+                self.assertFalse(os.path.exists(out), "nothing is made before the input is checked")
+
+    def test_truncated_config_is_an_error_naming_the_key(self):
+        with open(os.path.join(ROOT, "config", "valerant.yaml")) as handle:
+            text = handle.read()
+        cut = os.path.join(self.scratch, "cut.yaml")
+        with open(cut, "w") as handle:
+            handle.write(text[:text.index("\ncollision:")])
+        status, _, err = run([tool("valerant_explore"), *EPISODE, "--config", cut, "--out", self.folder("cut")])
+        self.assertEqual(status, 1)
+        self.assertIn(cut + ": collision: missing", err)
+
+    def test_signals(self):
+        for sig, code, name in [(signal.SIGINT, 130, "SIGINT"), (signal.SIGTERM, 143, "SIGTERM")]:
+            with self.subTest(signal=name):
+                out = self.folder("signal_" + name)
+                child = subprocess.Popen([tool("valerant_explore"), *EPISODE, "--budget", "15", "--out", out],
+                                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                time.sleep(4)
+                child.send_signal(sig)
+                self.assertEqual(child.wait(timeout=TIMEOUT), code)
+                report = complete_report(out)
+                self.assertIsNotNone(report, "the first signal still writes everything")
+                self.assertTrue(report["interrupted"])
+                self.assertEqual(report["signal"], name)
+        # A second signal ends the process at once; what it leaves is an unfinished run.
+        out = self.folder("signal_twice")
+        child = subprocess.Popen([tool("valerant_explore"), *EPISODE, "--budget", "15", "--out", out],
+                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(4)
+        child.send_signal(signal.SIGINT)
+        time.sleep(0.2)
+        child.send_signal(signal.SIGINT)
+        self.assertEqual(child.wait(timeout=TIMEOUT), -signal.SIGINT)
+        self.assertFilesWhole(out)
+        if complete_report(out) is None:  # --force clears what the kill left, temporary files too
+            status, _, err = explore(out, 1, "--force")
+            self.assertEqual(status, 0, err)
+            self.assertEqual(partial_files(out), [])
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--xml", metavar="DIR", help="write JUnit XML into this folder")
+    args, rest = parser.parse_known_args()
+    if args.xml:
+        import xmlrunner  # Debian's python3-xmlrunner
+
+        runner = xmlrunner.XMLTestRunner(output=args.xml, verbosity=2)
+    else:
+        runner = unittest.TextTestRunner(verbosity=2)
+    program = unittest.main(argv=[sys.argv[0]] + rest, testRunner=runner, exit=False)
+    return 0 if program.result.wasSuccessful() else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
