@@ -4,7 +4,6 @@ import json
 import os
 import re
 import subprocess
-import tempfile
 
 import actionlib
 import rosnode
@@ -70,34 +69,17 @@ def decisions(path):
     return out
 
 
-def graph_config_file():
-    """The config file the graph was launched with, with its width/height overrides."""
-    ns = rospy.search_param("valerant_config")
-    config = rospy.get_param(ns)
-    with open(config["file"]) as f:
-        text = f.read()
-    size = {"width": config["width"], "height": config["height"]}
-    for key, value in size.items():
-        text, found = re.subn(r"(?m)^(\s+)%s:\s*\d+" % key, r"\g<1>%s: %d" % (key, value), text)
-        if not found and not re.search(r"(?m)^world:", text):
-            text += "\nworld:\n  width: %d\n  height: %d\n" % (size["width"], size["height"])
-            break
-    handle, path = tempfile.mkstemp(suffix=".yaml")
-    with os.fdopen(handle, "w") as f:
-        f.write(text)
-    return config, path
-
-
 def run_valerant_explore(budget, output_dir):
     """valerant_explore (in process, no ROS) with the graph's map, spawn, seed, SLAM and
     configuration; returns its decisions."""
-    config, config_path = graph_config_file()
+    config = rospy.get_param(rospy.search_param("valerant_config"))
     tool = roslib.packages.find_node("valerant", "valerant_explore")
     if not tool:
         raise RuntimeError("valerant_explore is not built")
     command = [tool[0], "--map", config["map"], "--spawn", str(config["spawn"]), "--seed", str(config["seed"]),
-               "--slam", config["slam"], "--budget", str(budget), "--config", config_path, "--force",
-               "--out", output_dir]
+               "--slam", config["slam"], "--budget", str(budget), "--config", config["file"],
+               "--set", "world.width=%d" % config["width"], "--set", "world.height=%d" % config["height"],
+               "--force", "--out", output_dir]
     for switch, flag in (("rf", "--no-rf"), ("col_pc", "--no-col-pc"), ("col_depth", "--no-col-depth"),
                          ("dp", "--no-dp")):
         if not config[switch]:
