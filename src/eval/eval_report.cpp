@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
@@ -14,9 +15,46 @@
 namespace valerant {
 namespace {
 
-bool hasNumber(const nlohmann::json& j, const char* key) { return j.contains(key) && j[key].is_number(); }
+namespace fs = std::filesystem;
 
-double number(const nlohmann::json& j, const char* key) { return hasNumber(j, key) ? j[key].get<double>() : 0.0; }
+// j[key] when j is an object that has it, else null: never throws and never inserts,
+// whatever shape a report.json has.
+const nlohmann::json& field(const nlohmann::json& j, const std::string& key) {
+  static const nlohmann::json null;
+  if (!j.is_object()) return null;
+  const auto it = j.find(key);
+  return it == j.end() ? null : *it;
+}
+
+bool hasNumber(const nlohmann::json& j, const char* key) { return field(j, key).is_number(); }
+
+double number(const nlohmann::json& j, const char* key) { return hasNumber(j, key) ? field(j, key).get<double>() : 0.0; }
+
+// A mean over the runs that record a figure; -1 when none does.
+struct Mean {
+  double sum = 0;
+  int n = 0;
+  void add(double v) {
+    sum += v;
+    ++n;
+  }
+  // Adds j[key] when it is a number.
+  void addField(const nlohmann::json& j, const char* key) {
+    if (hasNumber(j, key)) add(number(j, key));
+  }
+  double value() const { return n > 0 ? sum / n : -1; }
+};
+
+// The numbers of a JSON array; empty when it is not an array of numbers.
+std::vector<double> numbers(const nlohmann::json& j) {
+  std::vector<double> out;
+  if (!j.is_array()) return out;
+  for (const auto& v : j) {
+    if (!v.is_number()) return {};
+    out.push_back(v.get<double>());
+  }
+  return out;
+}
 
 const cv::Scalar kPalette[] = {{40, 40, 220}, {40, 160, 40}, {220, 120, 30}, {160, 40, 160}, {30, 170, 200},
                                {120, 120, 120}, {200, 60, 120}, {60, 200, 140}, {0, 90, 200}, {140, 140, 0}};
@@ -29,12 +67,107 @@ std::string fixed(double v, int digits = 1) {
 
 std::string ratio(double v) { return v < 0 ? "-" : fixed(v, 2); }
 
-// A figure a run's report.json may lack (written before the field existed): "-", not 0.
-std::string recorded(const nlohmann::json& j, const char* key) {
-  return hasNumber(j, key) ? fixed(number(j, key), 0) : "-";
+// A summary figure (ConfigSummary: -1 when no run records it).
+std::string mean(double v, int digits = 1, const std::string& missing = "-") {
+  return v < 0 ? missing : fixed(v, digits);
 }
 
+// A figure a run's report.json may lack (written before the field existed): "-", not 0.
+std::string recorded(const nlohmann::json& j, const char* key, int digits = 0) {
+  return hasNumber(j, key) ? fixed(number(j, key), digits) : "-";
+}
+
+// Text in a markdown table cell: no '|' that would split it, no line break.
+std::string cell(std::string text) {
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\n' || text[i] == '\r') text[i] = ' ';
+    if (text[i] == '|') text.insert(i++, 1, '\\');
+  }
+  return text;
+}
+
+// How a report.json value is described in a reason: "a string", "an array", "null".
+std::string described(const nlohmann::json& v) {
+  if (v.is_null()) return "null";
+  const std::string type = v.type_name();
+  return (type == "object" || type == "array" ? "an " : "a ") + type;
+}
+
+// The top-level and ground_truth figures the report reads (numbers, or null: not recorded).
+const char* const kReportNumbers[] = {"committed_steps", "rewinds", "wall_seconds", "frames_rendered"};
+const char* const kGroundTruthNumbers[] = {
+    "observed_reachable_percent", "observed_reachable_m2", "penetration_free_steps", "penetrations",
+    "discarded_penetrations",     "false_rejections",      "missed_collisions",      "predicted_colliding",
+    "truly_colliding",            "ate_percent",           "accuracy_median_m",      "accuracy_p90_m",
+    "completeness_percent"};
+
 }  // namespace
+
+std::string reportProblem(const nlohmann::json& report, const std::string& path) {
+  if (!report.is_object()) return path + " is " + described(report) + ", not a JSON object";
+  auto wrong = [&](const std::string& name, const nlohmann::json& v, const std::string& expected) {
+    return path + ": field '" + name + "' is " + described(v) + ", not " + expected;
+  };
+  const auto& interrupted = field(report, "interrupted");
+  if (!interrupted.is_null() && !interrupted.is_boolean()) return wrong("interrupted", interrupted, "a boolean");
+  if (interrupted.is_boolean() && interrupted.get<bool>())
+    return path + " records an interrupted run (\"interrupted\": true: stopped before its budget)";
+  for (const char* key : kReportNumbers)
+    if (const auto& v = field(report, key); !v.is_null() && !v.is_number()) return wrong(key, v, "a number");
+  if (const auto& stages = field(report, "stage_seconds"); !stages.is_null()) {
+    if (!stages.is_object()) return wrong("stage_seconds", stages, "an object");
+    for (const auto& [stage, seconds] : stages.items())
+      if (!seconds.is_null() && !seconds.is_number()) return wrong("stage_seconds." + stage, seconds, "a number");
+  }
+  const auto& g = field(report, "ground_truth");
+  if (g.is_null()) return path + ": field 'ground_truth' is missing or null (the run was not evaluated)";
+  if (!g.is_object()) return wrong("ground_truth", g, "an object");
+  for (const char* key : kGroundTruthNumbers)
+    if (const auto& v = field(g, key); !v.is_null() && !v.is_number())
+      return wrong(std::string("ground_truth.") + key, v, "a number");
+  if (const auto& curve = field(g, "observed_percent_by_step"); !curve.is_null()) {
+    if (!curve.is_array()) return wrong("ground_truth.observed_percent_by_step", curve, "an array");
+    for (size_t i = 0; i < curve.size(); ++i)
+      if (!curve[i].is_number())
+        return wrong("ground_truth.observed_percent_by_step[" + std::to_string(i) + "]", curve[i], "a number");
+  }
+  if (const auto& events = field(g, "penetration_events"); !events.is_null() && !events.is_array())
+    return wrong("ground_truth.penetration_events", events, "an array");
+  return "";
+}
+
+EvalResult readEvalResult(const EvalRun& run) {
+  EvalResult r;
+  r.run = run;
+  const std::string path = run.dir + "/report.json", log = " (see " + run.dir + "/explore.log)";
+  std::error_code error;
+  if (!fs::exists(path, error)) {
+    r.error = "no report.json" + log;
+    return r;
+  }
+  std::ifstream in(path, std::ios::binary);
+  const std::string text = in ? std::string(std::istreambuf_iterator<char>(in), {}) : "";
+  if (!fs::is_regular_file(path, error) || !in || in.bad()) {
+    r.error = path + " cannot be read as a file";
+    return r;
+  }
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
+    r.error = path + " is empty: the run did not finish writing it" + log;
+    return r;
+  }
+  nlohmann::json report;
+  try {
+    report = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    r.error = path + " does not parse as JSON (at byte " + std::to_string(e.byte) + " of " +
+              std::to_string(text.size()) + "; truncated?)" + log;
+    return r;
+  }
+  r.error = reportProblem(report, path);
+  r.ok = r.error.empty();
+  if (r.ok) r.report = std::move(report);
+  return r;
+}
 
 std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, const std::vector<std::string>& configs) {
   std::vector<ConfigSummary> out;
@@ -42,9 +175,11 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     ConfigSummary s;
     s.config = config;
     std::vector<std::vector<double>> curves;
-    double predicted = 0, truly = 0, false_rejections = 0, missed = 0;
-    double discarded = 0;
-    int discarded_runs = 0;
+    Mean observed_percent, observed_m2, per_clean_step, penetrations, discarded, rewinds, false_rejections, missed,
+        ate, accuracy, completeness, wall, frames_per_second, committed_steps, per_step;
+    std::map<std::string, Mean> stages;
+    // Verdicts of the runs that record both figures of a ratio.
+    double predicted = 0, predicted_wrongly = 0, truly = 0, truly_missed = 0;
     for (const auto& r : results) {
       if (r.run.config != config) continue;
       if (!r.ok) {
@@ -52,53 +187,69 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
         continue;
       }
       ++s.runs;
-      const auto& g = r.report["ground_truth"];
-      s.observed_percent += number(g, "observed_reachable_percent");
-      s.observed_m2 += number(g, "observed_reachable_m2");
-      const double clean = number(g, "penetration_free_steps");
-      s.observed_m2_per_clean_step += clean > 0 ? number(g, "observed_reachable_m2") / clean : 0.0;
-      s.penetrations += number(g, "penetrations");
-      if (hasNumber(g, "discarded_penetrations")) {
-        discarded += number(g, "discarded_penetrations");
-        ++discarded_runs;
+      const auto& j = r.report;
+      const auto& g = field(j, "ground_truth");
+      observed_percent.addField(g, "observed_reachable_percent");
+      observed_m2.addField(g, "observed_reachable_m2");
+      if (hasNumber(g, "observed_reachable_m2") && hasNumber(g, "penetration_free_steps")) {
+        const double clean = number(g, "penetration_free_steps");
+        per_clean_step.add(clean > 0 ? number(g, "observed_reachable_m2") / clean : 0.0);
       }
-      s.rewinds += number(r.report, "rewinds");
-      s.false_rejections += number(g, "false_rejections");
-      s.missed_collisions += number(g, "missed_collisions");
-      predicted += number(g, "predicted_colliding");
-      truly += number(g, "truly_colliding");
-      false_rejections += number(g, "false_rejections");
-      missed += number(g, "missed_collisions");
-      const double steps = number(r.report, "committed_steps");
-      s.committed_steps += steps;
-      s.observed_m2_per_step += steps > 0 ? number(g, "observed_reachable_m2") / steps : 0.0;
-      if (r.report.contains("stage_seconds"))
-        for (const auto& [stage, seconds] : r.report["stage_seconds"].items())
-          if (seconds.is_number()) s.stage_seconds[stage] += seconds.get<double>();
-      s.ate_percent += number(g, "ate_percent");
-      s.accuracy_median_m += number(g, "accuracy_median_m");
-      s.completeness_percent += number(g, "completeness_percent");
-      s.wall_seconds += number(r.report, "wall_seconds");
-      const double wall = number(r.report, "wall_seconds");
-      s.frames_per_second += wall > 0 ? number(r.report, "frames_rendered") / wall : 0.0;
+      penetrations.addField(g, "penetrations");
+      discarded.addField(g, "discarded_penetrations");
+      rewinds.addField(j, "rewinds");
+      false_rejections.addField(g, "false_rejections");
+      missed.addField(g, "missed_collisions");
+      if (hasNumber(g, "predicted_colliding") && hasNumber(g, "false_rejections")) {
+        predicted += number(g, "predicted_colliding");
+        predicted_wrongly += number(g, "false_rejections");
+      }
+      if (hasNumber(g, "truly_colliding") && hasNumber(g, "missed_collisions")) {
+        truly += number(g, "truly_colliding");
+        truly_missed += number(g, "missed_collisions");
+      }
+      committed_steps.addField(j, "committed_steps");
+      if (hasNumber(j, "committed_steps") && hasNumber(g, "observed_reachable_m2")) {
+        const double steps = number(j, "committed_steps");
+        per_step.add(steps > 0 ? number(g, "observed_reachable_m2") / steps : 0.0);
+      }
+      if (const auto& seconds = field(j, "stage_seconds"); seconds.is_object())
+        for (const auto& [stage, value] : seconds.items())
+          if (value.is_number()) stages[stage].add(value.get<double>());
+      ate.addField(g, "ate_percent");
+      accuracy.addField(g, "accuracy_median_m");
+      completeness.addField(g, "completeness_percent");
+      wall.addField(j, "wall_seconds");
+      if (hasNumber(j, "wall_seconds") && hasNumber(j, "frames_rendered")) {
+        const double seconds = number(j, "wall_seconds");
+        frames_per_second.add(seconds > 0 ? number(j, "frames_rendered") / seconds : 0.0);
+      }
       // A run whose map never had anything to align (no keyframe fused) has no curve: it
-      // stays at its final value (0) throughout, and still counts in the mean.
-      if (g.contains("observed_percent_by_step") && !g["observed_percent_by_step"].empty())
-        curves.push_back(g["observed_percent_by_step"].get<std::vector<double>>());
-      else
+      // stays at its final value (0) throughout, and still counts in the mean. A run that
+      // records neither is not in the curve.
+      if (auto curve = numbers(field(g, "observed_percent_by_step")); !curve.empty())
+        curves.push_back(std::move(curve));
+      else if (hasNumber(g, "observed_reachable_percent"))
         curves.push_back({number(g, "observed_reachable_percent")});
     }
-    if (s.runs > 0) {
-      for (double* v : {&s.observed_percent, &s.observed_m2, &s.observed_m2_per_clean_step, &s.penetrations, &s.rewinds,
-                        &s.false_rejections, &s.missed_collisions, &s.ate_percent, &s.accuracy_median_m,
-                        &s.completeness_percent, &s.wall_seconds, &s.frames_per_second, &s.committed_steps,
-                        &s.observed_m2_per_step})
-        *v /= s.runs;
-      for (auto& [stage, seconds] : s.stage_seconds) seconds /= s.runs;
-    }
-    if (discarded_runs > 0) s.discarded_penetrations = discarded / discarded_runs;
-    if (predicted > 0) s.verdict_precision = (predicted - false_rejections) / predicted;
-    if (truly > 0) s.verdict_recall = (truly - missed) / truly;
+    s.observed_percent = observed_percent.value();
+    s.observed_m2 = observed_m2.value();
+    s.observed_m2_per_clean_step = per_clean_step.value();
+    s.penetrations = penetrations.value();
+    s.discarded_penetrations = discarded.value();
+    s.rewinds = rewinds.value();
+    s.false_rejections = false_rejections.value();
+    s.missed_collisions = missed.value();
+    s.ate_percent = ate.value();
+    s.accuracy_median_m = accuracy.value();
+    s.completeness_percent = completeness.value();
+    s.wall_seconds = wall.value();
+    s.frames_per_second = frames_per_second.value();
+    s.committed_steps = committed_steps.value();
+    s.observed_m2_per_step = per_step.value();
+    for (const auto& [stage, seconds] : stages) s.stage_seconds[stage] = seconds.value();
+    if (predicted > 0) s.verdict_precision = (predicted - predicted_wrongly) / predicted;
+    if (truly > 0) s.verdict_recall = (truly - truly_missed) / truly;
     // A run that ended early (budget of steps not used up, or a stall) keeps its last
     // value, so the mean curve is over every run at every step and never drops because
     // a run stopped.
@@ -148,6 +299,16 @@ std::vector<std::string> rowsOfOtherRuns(const std::string& path, const std::vec
   return kept;
 }
 
+// A quoted CSV field: quotes doubled, line breaks as spaces.
+std::string csvQuoted(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += "\"\"";
+    else out += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return out + "\"";
+}
+
 }  // namespace
 
 void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& results) {
@@ -157,7 +318,7 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
   out << kResultsCsvHeader << "\n";
   for (const auto& r : results) {
     const auto& j = r.report;
-    const nlohmann::json g = r.ok ? j["ground_truth"] : nlohmann::json::object();
+    const auto& g = field(j, "ground_truth");
     // In the order of kResultsCsvHeader.
     const std::pair<const nlohmann::json*, const char*> fields[] = {
         {&j, "committed_steps"},       {&j, "rewinds"},           {&g, "observed_reachable_percent"},
@@ -166,8 +327,11 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
         {&g, "ate_percent"},           {&g, "accuracy_median_m"}, {&g, "accuracy_p90_m"},
         {&g, "completeness_percent"},  {&j, "wall_seconds"},      {&j, "frames_rendered"}};
     out << r.run.map << ',' << r.run.spawn << ',' << r.run.config << ',' << r.ok;
-    for (const auto& [source, key] : fields) out << ',' << number(*source, key);
-    out << ",\"" << r.error << "\"\n";
+    for (const auto& [source, key] : fields) {
+      out << ',';
+      if (r.ok && hasNumber(*source, key)) out << number(*source, key);  // not recorded or failed: empty
+    }
+    out << ',' << csvQuoted(r.error) << "\n";
   }
   for (const auto& row : others) out << row << "\n";
   if (!out) throw InputError(path, "cannot write results");
@@ -185,15 +349,15 @@ std::string penetrationEventsSection(const std::vector<EvalResult>& results, con
   for (const auto& r : results) {
     if (!r.ok || r.run.config != config) continue;
     ++runs;
-    const auto& g = r.report["ground_truth"];
-    if (!g.contains("penetration_events") || !g["penetration_events"].is_array()) {
+    const auto& list = field(field(r.report, "ground_truth"), "penetration_events");
+    if (!list.is_array()) {
       ++unrecorded;
       continue;
     }
-    for (const auto& e : g["penetration_events"]) {
+    for (const auto& e : list) {
       ++events;
       rows << "| " << r.run.map << " | " << r.run.spawn << " | " << number(e, "step") << " | "
-           << (e.contains("candidate") && e["candidate"].is_string() ? e["candidate"].get<std::string>() : "?")
+           << (field(e, "candidate").is_string() ? cell(field(e, "candidate").get<std::string>()) : "?")
            << " | " << number(e, "frames") << " | "
            << number(e, "first_frame") << " | " << number(e, "occupied_max") << " | "
            << fixed(number(e, "min_near_ratio"), 2) << " |\n";
@@ -226,13 +390,13 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "completeness % | s / run | frames/s |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : summaries) {
-    md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << fixed(s.observed_percent) << " | "
-       << fixed(s.observed_m2) << " | " << fixed(s.observed_m2_per_clean_step, 2) << " | " << fixed(s.penetrations)
-       << " | " << (s.discarded_penetrations < 0 ? std::string("-") : fixed(s.discarded_penetrations)) << " | "
-       << fixed(s.rewinds, 2) << " | " << fixed(s.false_rejections) << " | " << fixed(s.missed_collisions)
-       << " | " << ratio(s.verdict_precision) << " | " << ratio(s.verdict_recall) << " | " << fixed(s.ate_percent, 2) << " | " << fixed(s.accuracy_median_m, 3) << " | "
-       << fixed(s.completeness_percent) << " | " << fixed(s.wall_seconds) << " | " << fixed(s.frames_per_second)
-       << " |\n";
+    md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << mean(s.observed_percent) << " | "
+       << mean(s.observed_m2) << " | " << mean(s.observed_m2_per_clean_step, 2) << " | " << mean(s.penetrations)
+       << " | " << mean(s.discarded_penetrations) << " | " << mean(s.rewinds, 2) << " | " << mean(s.false_rejections)
+       << " | " << mean(s.missed_collisions) << " | " << ratio(s.verdict_precision) << " | "
+       << ratio(s.verdict_recall) << " | " << mean(s.ate_percent, 2) << " | " << mean(s.accuracy_median_m, 3)
+       << " | " << mean(s.completeness_percent) << " | " << mean(s.wall_seconds) << " | "
+       << mean(s.frames_per_second) << " |\n";
   }
   md << "\nVerdict precision: of the candidates the tests rejected as colliding, the share whose player hull "
         "really enters solid; recall: of the candidates that really enter solid, the share rejected.\n\n"
@@ -249,12 +413,12 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
   for (size_t i = 0; i <= stages.size(); ++i) md << "---|";
   md << "\n";
   for (const auto& s : summaries) {
-    md << "| " << s.config << " | " << fixed(s.committed_steps) << " | " << fixed(s.observed_m2_per_step) << " |";
+    md << "| " << s.config << " | " << mean(s.committed_steps) << " | " << mean(s.observed_m2_per_step) << " |";
     for (const auto& stage : stages) {
       const auto it = s.stage_seconds.find(stage);
       md << " " << (it == s.stage_seconds.end() ? std::string("-") : fixed(it->second)) << " |";
     }
-    md << " " << fixed(s.wall_seconds) << " |\n";
+    md << " " << mean(s.wall_seconds) << " |\n";
   }
   md << "\n![coverage against step](" << plots_prefix << "coverage_by_step.png)\n"
      << "![penetrations](" << plots_prefix << "penetrations.png)\n"
@@ -266,15 +430,15 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     if (!r.ok) {
-      md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | failed: " << r.error
+      md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | failed: " << cell(r.error)
          << " | | | | | |\n";
       continue;
     }
-    const auto& g = r.report["ground_truth"];
+    const auto& g = field(r.report, "ground_truth");
     md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | "
-       << fixed(number(g, "observed_reachable_percent")) << " | " << fixed(number(g, "observed_reachable_m2"), 0)
-       << " | " << number(r.report, "committed_steps") << " | " << number(g, "penetrations") << " | "
-       << recorded(g, "discarded_penetrations") << " | " << number(r.report, "rewinds") << " |\n";
+       << recorded(g, "observed_reachable_percent", 1) << " | " << recorded(g, "observed_reachable_m2") << " | "
+       << recorded(r.report, "committed_steps") << " | " << recorded(g, "penetrations") << " | "
+       << recorded(g, "discarded_penetrations") << " | " << recorded(r.report, "rewinds") << " |\n";
   }
   return md.str();
 }
@@ -284,8 +448,10 @@ std::vector<std::string> findings(const std::vector<ConfigSummary>& summaries, c
                                 [&](const ConfigSummary& s) { return s.config == reference; });
   if (ref == summaries.end() || ref->runs == 0) return {"no finished runs of " + reference + " to compare with"};
   std::vector<std::string> out;
-  out.push_back(reference + ": " + fixed(ref->penetrations, 2) + " penetrating committed frames per run" +
-                (ref->penetrations == 0 ? " (none)" : "") + ", " + fixed(ref->observed_m2_per_clean_step, 2) +
+  const std::string unrecorded = "(not recorded)";
+  out.push_back(reference + ": " + mean(ref->penetrations, 2, unrecorded) + " penetrating committed frames per run" +
+                (ref->penetrations == 0 ? " (none)" : "") + ", " +
+                mean(ref->observed_m2_per_clean_step, 2, unrecorded) +
                 " m2 of reachable floor per penetration-free step.");
   for (const auto& s : summaries) {
     if (s.config == reference) continue;
@@ -293,14 +459,19 @@ std::vector<std::string> findings(const std::vector<ConfigSummary>& summaries, c
       out.push_back(s.config + ": no finished runs.");
       continue;
     }
+    // A figure that one side does not record is not compared.
+    const bool coverage_known = ref->observed_m2_per_clean_step >= 0 && s.observed_m2_per_clean_step >= 0;
     const bool better_coverage = ref->observed_m2_per_clean_step > s.observed_m2_per_clean_step;
-    std::string line = s.config + ": " + fixed(s.observed_m2_per_clean_step, 2) + " m2 per clean step (" +
-                       reference + (better_coverage ? " is better" : " is NOT better") + "), " +
-                       fixed(s.penetrations, 2) + " penetrations per run (";
-    if (s.penetrations > ref->penetrations) line += "more than " + reference + ")";
+    std::string line = s.config + ": " + mean(s.observed_m2_per_clean_step, 2, unrecorded) + " m2 per clean step (" +
+                       (!coverage_known ? "not compared"
+                                        : reference + (better_coverage ? " is better" : " is NOT better")) +
+                       "), " + mean(s.penetrations, 2, unrecorded) + " penetrations per run (";
+    if (ref->penetrations < 0 || s.penetrations < 0) line += "not compared)";
+    else if (s.penetrations > ref->penetrations) line += "more than " + reference + ")";
     else if (s.penetrations < ref->penetrations) line += "fewer than " + reference + ")";
     else line += "as many as " + reference + ")";
-    line += ", " + fixed(s.observed_percent) + "% of reachable floor observed vs " + fixed(ref->observed_percent) + "%.";
+    line += ", " + mean(s.observed_percent, 1, unrecorded) + "% of reachable floor observed vs " +
+            mean(ref->observed_percent, 1, unrecorded) + "%.";
     out.push_back(line);
   }
   return out;
@@ -310,7 +481,10 @@ cv::Mat topdownSheet(const std::vector<EvalResult>& results, const std::string& 
   std::vector<std::pair<std::string, cv::Mat>> tiles;
   for (const auto& r : results) {
     if (r.run.config != config || !r.ok) continue;
-    cv::Mat image = cv::imread(r.run.dir + "/topdown.png");
+    const std::string path = r.run.dir + "/topdown.png";
+    std::error_code error;
+    if (!fs::is_regular_file(path, error)) continue;  // imread would warn on stderr
+    cv::Mat image = cv::imread(path);
     if (image.empty()) continue;
     const double scale = double(thumbnail_px) / std::max(image.cols, image.rows);
     cv::resize(image, image, {}, scale, scale, cv::INTER_AREA);
@@ -376,11 +550,12 @@ cv::Mat plotBars(const std::vector<ConfigSummary>& summaries, double ConfigSumma
   for (const auto& s : summaries) top_value = std::max(top_value, s.*value);
   cv::putText(img, title, {10, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar::all(0));
   for (size_t i = 0; i < summaries.size(); ++i) {
-    const double v = summaries[i].*value;
+    const double v = summaries[i].*value;  // -1: no run records it, no bar
     const int x = left + static_cast<int>(i) * (bar + gap);
-    const int height = static_cast<int>((h - bottom - top) * v / top_value);
-    cv::rectangle(img, {x, h - bottom - height}, {x + bar, h - bottom}, kPalette[i % std::size(kPalette)], cv::FILLED);
-    cv::putText(img, fixed(v, v < 10 ? 2 : 0), {x, h - bottom - height - 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
+    const int height = v < 0 ? 0 : static_cast<int>((h - bottom - top) * v / top_value);
+    if (height > 0)
+      cv::rectangle(img, {x, h - bottom - height}, {x + bar, h - bottom}, kPalette[i % std::size(kPalette)], cv::FILLED);
+    cv::putText(img, mean(v, v < 10 ? 2 : 0), {x, h - bottom - height - 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
                 cv::Scalar::all(0));
     cv::putText(img, summaries[i].config, {x, h - bottom + 18}, cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar::all(0));
   }

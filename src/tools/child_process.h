@@ -17,22 +17,34 @@
 
 namespace valerant::tools {
 
+namespace detail {
+
+// The child's side of a start: stdout and stderr into files, `environment` added, then
+// `argv` replaces the process (never returns; 126 when a log cannot be opened, 127 when
+// the program cannot be executed).
+[[noreturn]] inline void execChild(const std::vector<std::string>& argv, const std::string& stdout_path,
+                                   const std::string& stderr_path,
+                                   const std::map<std::string, std::string>& environment) {
+  if (!freopen(stderr_path.c_str(), "w", stderr) || !freopen(stdout_path.c_str(), "w", stdout)) _exit(126);
+  for (const auto& [name, value] : environment) setenv(name.c_str(), value.c_str(), 1);
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  execvp(args[0], args.data());
+  _exit(127);
+}
+
+}  // namespace detail
+
 // Starts `argv[0]` (a path, or a name looked up on PATH) with `environment` added to
-// this process's environment; returns its pid.
+// this process's environment; returns its pid. The child stays in this process's
+// process group (a Ctrl-C in the terminal reaches it too).
 inline pid_t startChild(const std::vector<std::string>& argv, const std::string& stdout_path,
                         const std::string& stderr_path, const std::map<std::string, std::string>& environment = {}) {
   if (argv.empty()) throw InputError("startChild", "no command");
   const pid_t pid = fork();
   if (pid < 0) throw InputError(argv[0], "cannot start a process");
-  if (pid == 0) {
-    if (!freopen(stderr_path.c_str(), "w", stderr) || !freopen(stdout_path.c_str(), "w", stdout)) _exit(126);
-    for (const auto& [name, value] : environment) setenv(name.c_str(), value.c_str(), 1);
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    execvp(args[0], args.data());
-    _exit(127);
-  }
+  if (pid == 0) detail::execChild(argv, stdout_path, stderr_path, environment);
   return pid;
 }
 

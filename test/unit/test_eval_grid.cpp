@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
+#include "openarena_data.h"
 #include "valerant/common/error.h"
 #include "valerant/eval/eval_report.h"
 
@@ -75,8 +77,9 @@ TEST(EvalReport, MeansPerConfiguration) {
   EXPECT_NE(md.find("| full | 3 | 0 | 16.7 |"), std::string::npos);
   EXPECT_NE(md.find("| 0.0 | 2.0 | 1.00 |"), std::string::npos);   // full: penetrations, discarded, rewinds
   EXPECT_NE(md.find("| 45.00 | 3.0 | - | 1.00 |"), std::string::npos);  // random: none recorded
-  EXPECT_NE(md.find("| m | 0 | full | 20.0 | 200 | 0 | 0 | 4 | 1 |"), std::string::npos);
-  EXPECT_NE(md.find("| m | 0 | full | 0.0 | 0 | 0 | 0 | - | 1 |"), std::string::npos);
+  // These reports do not record committed_steps: "-", not 0.
+  EXPECT_NE(md.find("| m | 0 | full | 20.0 | 200 | - | 0 | 4 | 1 |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 0 | full | 0.0 | 0 | - | 0 | - | 1 |"), std::string::npos);
   // No full report lists penetration events: the section says how many predate them.
   EXPECT_NE(md.find("3 run(s) have a report.json written before"), std::string::npos);
   EXPECT_NE(md.find("failed: no report.json"), std::string::npos);
@@ -173,9 +176,10 @@ TEST(EvalReport, ResultsCsvKeepsTheRowsOfOtherRuns) {
   writeResultsCsv(path, {result("a", 1, 7), result("c", 0, 1)});
   const auto lines = rows();
   ASSERT_EQ(lines.size(), 5u);  // header, the 2 reported rows, the 2 other runs' rows
-  EXPECT_EQ(lines[1].substr(0, 21), "a,1,full,1,0,0,7,0,0,");
+  // Figures the reports do not record are empty cells, not 0.
+  EXPECT_EQ(lines[1].substr(0, 17), "a,1,full,1,,,7,,,");
   EXPECT_EQ(lines[2].substr(0, 9), "c,0,full,");
-  EXPECT_EQ(lines[3].substr(0, 21), "a,0,full,1,0,0,5,0,0,");
+  EXPECT_EQ(lines[3].substr(0, 17), "a,0,full,1,,,5,,,");
   EXPECT_EQ(lines[4].substr(0, 9), "b,0,full,");
   // A file of another format is kept beside, not merged.
   { std::ofstream(path) << "old,format\n1,2\n"; }
@@ -191,4 +195,187 @@ TEST(EvalReport, ResultsCsvKeepsTheRowsOfOtherRuns) {
   std::ifstream second(path + ".previous.2");
   std::getline(second, header);
   EXPECT_EQ(header, "older,format");
+}
+
+TEST(EvalGrid, NamesThatBecomeFoldersArePlain) {
+  for (const std::string name : {"oa_dm1", "q3dm17", "map-2", "A_b.c-d", "x.bsp", "-x"})
+    EXPECT_TRUE(isPlainEvalName(name)) << name;
+  for (const std::string name : {"", ".", "..", "../x", "x/y", "/abs", ".hidden", "a..b", "a b", "a\\b", "x:y",
+                                 "x,y", "caf\xc3\xa9", "a\nb"})
+    EXPECT_FALSE(isPlainEvalName(name)) << name;
+  // The error names the option and the value, before any run exists.
+  auto message = [](const std::vector<std::string>& maps, const std::vector<std::string>& configs) {
+    try {
+      makeEvalGrid(maps, 1, configs, "/o");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message({"oa_dm1", "../x"}, {"full"}).find("--maps '../x': is not a plain map name"), std::string::npos);
+  EXPECT_NE(message({"a/b"}, {"full"}).find("--maps 'a/b'"), std::string::npos);
+  EXPECT_NE(message({"oa_dm1"}, {"../full"}).find("--configs '../full': is not a plain configuration name"),
+            std::string::npos);
+  // Named twice: both runs would write the same folder at the same time.
+  EXPECT_NE(message({"oa_dm1", "oa_dm1"}, {"full"}).find("--maps 'oa_dm1': is named twice"), std::string::npos);
+  EXPECT_NE(message({"oa_dm1"}, {"full", "full"}).find("--configs 'full': is named twice"), std::string::npos);
+  EXPECT_EQ(message({"oa_dm1", "x.y-2"}, {"full", "oracle"}), "no error");
+}
+
+TEST(EvalGrid, SpawnIndicesAMapDoesNotHaveAreAnErrorListingTheMaps) {
+  const auto runs = makeEvalGrid({"a", "b", "c"}, 3, {"full"}, "/o");
+  EXPECT_NO_THROW(checkEvalSpawns(runs, {{"a", 3}, {"b", 8}, {"c", 3}}));
+  EXPECT_NO_THROW(checkEvalSpawns(runs, {}));  // a map without a count is not checked
+  try {
+    checkEvalSpawns(runs, {{"a", 2}, {"b", 8}, {"c", 1}});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--spawns 3: asks for spawn indices a map does not have: a has 2 spawn points (indices 0 to 1); "
+              "c has 1 spawn point (index 0)");
+  }
+  // Only the runs to do are checked: spawn 0 alone fits a one-spawn map.
+  EXPECT_NO_THROW(checkEvalSpawns({runs[0]}, {{"a", 1}}));
+}
+
+TEST(EvalGrid, InstalledSpawnCounts) {
+  VALERANT_REQUIRE_OPENARENA();
+  const auto counts = installedSpawnCounts({"oa_dm1"});
+  ASSERT_EQ(counts.count("oa_dm1"), 1u);
+  EXPECT_GT(counts.at("oa_dm1"), 0);
+  try {
+    installedSpawnCounts({"oa_dm1", "no_such_map"});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--maps 'no_such_map': not found"), std::string::npos);
+  }
+}
+
+namespace {
+
+// A run folder under the test's temporary folder with `text` as its report.json
+// (nullptr: none).
+EvalRun runWithReport(const std::string& name, const char* text) {
+  const std::string dir = ::testing::TempDir() + "/valerant_eval_reports/" + name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  if (text) std::ofstream(dir + "/report.json", std::ios::binary) << text;
+  return {name, 0, "full", dir};
+}
+
+}  // namespace
+
+TEST(EvalReport, MalformedReportsAreFailedRowsWithTheirReason) {
+  struct Case {
+    const char* name;
+    const char* text;
+    std::string reason;  // in the error
+  };
+  const std::vector<Case> cases = {
+      {"missing", nullptr, "no report.json (see "},
+      {"empty", "", "report.json is empty"},
+      {"blank", "  \n", "report.json is empty"},
+      {"truncated", "{\"rewinds\": 1, \"ground_tr", "report.json does not parse as JSON (at byte"},
+      {"array", "[]", "report.json is an array, not a JSON object"},
+      {"number", "3", "report.json is a number, not a JSON object"},
+      {"no_truth", "{\"rewinds\": 1}", "field 'ground_truth' is missing or null"},
+      {"null_truth", "{\"ground_truth\": null}", "field 'ground_truth' is missing or null"},
+      {"string_truth", "{\"ground_truth\": \"x\"}", "field 'ground_truth' is a string, not an object"},
+      {"string_rewinds", "{\"ground_truth\": {}, \"rewinds\": \"2\"}", "field 'rewinds' is a string, not a number"},
+      {"bool_figure", "{\"ground_truth\": {\"penetrations\": true}}",
+       "field 'ground_truth.penetrations' is a boolean, not a number"},
+      {"curve_item", "{\"ground_truth\": {\"observed_percent_by_step\": [1, \"x\"]}}",
+       "field 'ground_truth.observed_percent_by_step[1]' is a string, not a number"},
+      {"curve", "{\"ground_truth\": {\"observed_percent_by_step\": 5}}",
+       "field 'ground_truth.observed_percent_by_step' is a number, not an array"},
+      {"events", "{\"ground_truth\": {\"penetration_events\": {}}}",
+       "field 'ground_truth.penetration_events' is an object, not an array"},
+      {"stages", "{\"ground_truth\": {}, \"stage_seconds\": []}", "field 'stage_seconds' is an array, not an object"},
+      {"stage", "{\"ground_truth\": {}, \"stage_seconds\": {\"slam\": \"1\"}}",
+       "field 'stage_seconds.slam' is a string, not a number"},
+      {"interrupted", "{\"ground_truth\": {}, \"interrupted\": true}", "records an interrupted run"},
+      {"odd_interrupted", "{\"ground_truth\": {}, \"interrupted\": \"no\"}",
+       "field 'interrupted' is a string, not a boolean"},
+  };
+  std::vector<EvalResult> results;
+  for (const auto& c : cases) {
+    const EvalRun run = runWithReport(c.name, c.text);
+    const EvalResult r = readEvalResult(run);
+    EXPECT_FALSE(r.ok) << c.name;
+    EXPECT_NE(r.error.find(c.reason), std::string::npos) << c.name << ": " << r.error;
+    EXPECT_NE(r.error.find(run.dir), std::string::npos) << c.name << ": the reason names the run's file";
+    results.push_back(r);
+  }
+  // A report as valerant_explore writes it, a NaN figure (null) included, is a result.
+  const EvalResult fine = readEvalResult(runWithReport(
+      "fine", "{\"interrupted\": false, \"rewinds\": 0, \"ground_truth\": {\"ate_percent\": null, "
+              "\"observed_reachable_percent\": 5, \"penetration_events\": [], \"observed_percent_by_step\": [5]}}"));
+  EXPECT_TRUE(fine.ok) << fine.error;
+  EXPECT_EQ(fine.report["ground_truth"]["observed_reachable_percent"], 5);
+  results.push_back(fine);
+
+  // None of them aborts the report: each is a failed row with its reason.
+  std::vector<ConfigSummary> s;
+  ASSERT_NO_THROW(s = summarise(results, {"full"}));
+  EXPECT_EQ(s[0].runs, 1);
+  EXPECT_EQ(s[0].failed, static_cast<int>(cases.size()));
+  EXPECT_DOUBLE_EQ(s[0].observed_percent, 5.0);
+  EXPECT_DOUBLE_EQ(s[0].ate_percent, -1.0);  // recorded by no run
+  std::string md;
+  ASSERT_NO_THROW(md = markdownReport(s, results, "cmd", ""));
+  EXPECT_NE(md.find("| string_truth | 0 | full | failed: " + results[8].error + " | | | | | |"), std::string::npos);
+  const std::string path = ::testing::TempDir() + "/valerant_malformed_results.csv";
+  std::remove(path.c_str());
+  ASSERT_NO_THROW(writeResultsCsv(path, results));
+  std::ifstream csv(path);
+  std::string line;
+  std::getline(csv, line);  // header
+  std::getline(csv, line);
+  EXPECT_EQ(line.substr(0, line.find('"')), "missing,0,full,0,,,,,,,,,,,,,,,,");  // blank, not 0
+}
+
+TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
+  EvalResult bare;  // parses, has a ground_truth, records nothing else
+  bare.run = {"m", 0, "full", "/o"};
+  bare.ok = true;
+  bare.report = {{"ground_truth", nlohmann::json::object()}};
+  EvalResult some = bare;  // records its coverage only
+  some.run.spawn = 1;
+  some.report["ground_truth"]["observed_reachable_percent"] = 10;
+  EvalResult quoted;  // a reason with a quote and a pipe stays inside its CSV field and table cell
+  quoted.run = {"m", 2, "full", "/o"};
+  quoted.error = "/o/report.json: field 'x\"y|z' is null";
+  const std::vector<EvalResult> results = {bare, some, quoted};
+  const auto s = summarise(results, {"full"});
+  EXPECT_EQ(s[0].runs, 2);
+  EXPECT_DOUBLE_EQ(s[0].observed_percent, 10.0);  // over the run that records it, not (10 + 0) / 2
+  EXPECT_DOUBLE_EQ(s[0].penetrations, -1.0);
+  EXPECT_DOUBLE_EQ(s[0].committed_steps, -1.0);
+  EXPECT_EQ(s[0].observed_by_step, std::vector<double>{10.0});  // the bare run has no curve
+  const std::string md = markdownReport(s, results, "cmd", "");
+  EXPECT_NE(md.find("| full | 2 | 1 | 10.0 | - | - | - | - | - | - | - | - | - | - | - | - | - | - |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| m | 0 | full | - | - | - | - | - | - |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 1 | full | 10.0 | - | - | - | - | - |"), std::string::npos);
+  EXPECT_NE(md.find("failed: /o/report.json: field 'x\"y\\|z' is null | | | | | |"), std::string::npos);
+  EXPECT_NE(md.find("full: (not recorded) penetrating committed frames per run"), std::string::npos);
+  EXPECT_EQ(findings(s, "full").size(), 1u);
+  const std::string path = ::testing::TempDir() + "/valerant_blank_results.csv";
+  std::remove(path.c_str());
+  writeResultsCsv(path, results);
+  std::ifstream csv(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(csv, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[1], "m,0,full,1,,,,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[2], "m,1,full,1,,,10,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[3], "m,2,full,0,,,,,,,,,,,,,,,,\"/o/report.json: field 'x\"\"y|z' is null\"");
+  // A report of any shape that skipped readEvalResult still does not throw.
+  EvalResult odd = bare;
+  odd.report = nlohmann::json::array({1, 2});
+  EvalResult odder = bare;
+  odder.report = {{"ground_truth", "x"}, {"stage_seconds", 3}, {"rewinds", "1"}};
+  EXPECT_NO_THROW(markdownReport(summarise({odd, odder}, {"full"}), {odd, odder}, "cmd", ""));
+  EXPECT_NO_THROW(writeResultsCsv(path, {odd, odder}));
 }

@@ -6,6 +6,7 @@
 //   no-col    without both collision tests          no-col-pc / no-col-depth: one of them
 //   oracle    ground-truth SLAM instead of visual
 //   random / forward / frontier: the baseline policies on the same SLAM and tests
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,9 +21,24 @@ struct EvalRun {
 
 const std::vector<std::string>& knownEvalConfigs();
 
-// All runs, maps outermost; throws InputError naming an unknown configuration.
+// Whether `name` may name a run folder: letters, digits, '_', '-' and '.', not starting
+// with '.' and without "..", so no name reaches outside the grid's folder.
+bool isPlainEvalName(const std::string& name);
+
+// All runs, maps outermost. Throws InputError, before any run exists, naming a map or
+// configuration that is not a plain name (isPlainEvalName), one named twice (two runs
+// would share a folder), or an unknown configuration.
 std::vector<EvalRun> makeEvalGrid(const std::vector<std::string>& maps, int spawns,
                                   const std::vector<std::string>& configs, const std::string& out_dir);
+
+// The spawn points of each of `maps` in the installed OpenArena pk3s, the ones
+// valerant_explore loads (only the BSP is parsed). Throws InputError naming a map that
+// is not installed.
+std::map<std::string, int> installedSpawnCounts(const std::vector<std::string>& maps);
+
+// Throws InputError listing every map of `runs` whose spawn count (`spawn_counts`) has no
+// spawn index a run asks for; a map missing from `spawn_counts` is not checked.
+void checkEvalSpawns(const std::vector<EvalRun>& runs, const std::map<std::string, int>& spawn_counts);
 
 // valerant_explore arguments (without the program name) for one run.
 std::vector<std::string> exploreArguments(const EvalRun& run, const std::string& slam, int budget);

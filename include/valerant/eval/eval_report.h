@@ -16,21 +16,33 @@ namespace valerant {
 struct EvalResult {
   EvalRun run;
   bool ok = false;
-  std::string error;       // why the run has no report
+  std::string error;       // why the run has no usable report
   nlohmann::json report;   // the run's report.json
 };
 
+// The result of `run` from its report.json. Not ok, with a reason naming the file (and
+// the field), when there is none, it is empty, does not parse, or reportProblem() finds
+// one. A run whose result is not ok is not done: valerant_eval runs it again.
+EvalResult readEvalResult(const EvalRun& run);
+// Why `report` (read from `path`) is not a run's result, naming the field; "" when it
+// is: a JSON object, not interrupted ("interrupted": true: stopped before its budget), with
+// a ground_truth object, and every field the report reads of the type it reads (a
+// number may be null or absent: not recorded).
+std::string reportProblem(const nlohmann::json& report, const std::string& path);
+
+// Means over the ok runs of one configuration. Every figure is a mean over the runs
+// whose report.json records it (null or absent in a report written before the field
+// existed, or for a NaN: not counted), and -1 when none does; all of them are >= 0 otherwise.
 struct ConfigSummary {
   std::string config;
   int runs = 0, failed = 0;
-  double observed_percent = 0, observed_m2 = 0, observed_m2_per_clean_step = 0;
-  double penetrations = 0, rewinds = 0, false_rejections = 0, missed_collisions = 0;
-  // In-solid frames of committed steps that a rewind later discarded, mean over the runs
-  // whose report.json records them (written before the field existed: not counted); -1
-  // when none does.
+  double observed_percent = -1, observed_m2 = -1, observed_m2_per_clean_step = -1;
+  double penetrations = -1, rewinds = -1, false_rejections = -1, missed_collisions = -1;
+  // In-solid frames of committed steps that a rewind later discarded.
   double discarded_penetrations = -1;
-  double ate_percent = 0, accuracy_median_m = 0, completeness_percent = 0, wall_seconds = 0, frames_per_second = 0;
-  double committed_steps = 0, observed_m2_per_step = 0;  // new reachable area per committed step
+  double ate_percent = -1, accuracy_median_m = -1, completeness_percent = -1, wall_seconds = -1,
+         frames_per_second = -1;
+  double committed_steps = -1, observed_m2_per_step = -1;  // new reachable area per committed step
   // Collision verdicts against ground truth ("this candidate would enter solid"), summed
   // over every verdict of every run before dividing (micro average); -1 when undefined.
   double verdict_precision = -1, verdict_recall = -1;
@@ -41,6 +53,7 @@ struct ConfigSummary {
 std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, const std::vector<std::string>& configs);
 // One row per result, then the rows of an existing file at `path` for runs not among
 // `results` (a report of a subset of a grid does not drop the rest of the grid's rows).
+// A figure the report does not record, and every figure of a failed run, is an empty cell.
 void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& results);
 // The markdown section listing every penetration event (report.json's
 // ground_truth.penetration_events) of the runs of `config`.
