@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "valerant/common/error.h"
+#include "valerant/common/output_file.h"
 
 namespace valerant {
 namespace {
@@ -313,8 +314,7 @@ std::string csvQuoted(const std::string& text) {
 
 void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& results) {
   const std::vector<std::string> others = rowsOfOtherRuns(path, results);
-  std::ofstream out(path);
-  if (!out) throw InputError(path, "cannot write results");
+  std::ostringstream out;
   out << kResultsCsvHeader << "\n";
   for (const auto& r : results) {
     const auto& j = r.report;
@@ -334,7 +334,7 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
     out << ',' << csvQuoted(r.error) << "\n";
   }
   for (const auto& row : others) out << row << "\n";
-  if (!out) throw InputError(path, "cannot write results");
+  writeFileAtomically(path, out.str());
 }
 
 std::string penetrationEventsSection(const std::vector<EvalResult>& results, const std::string& config) {

@@ -33,12 +33,13 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "child_pool.h"
 #include "child_process.h"
 #include "cli_args.h"
+#include "tool_config.h"
+#include "valerant/common/output_file.h"
 #include "valerant/config/config.h"
 #include "valerant/eval/eval_report.h"
 
@@ -86,12 +87,10 @@ void writeReport(const std::string& md_path, const std::string& image_folder, co
                  const std::map<std::string, cv::Mat>& images) {
   const fs::path dir = fs::path(md_path).parent_path() / image_folder;
   if (!dir.empty()) fs::create_directories(dir);
-  std::ofstream md(md_path);
-  md << markdown;
-  if (!md) throw InputError(md_path, "cannot write the report");
+  // The images first: the report links them.
   for (const auto& [name, image] : images)
-    if (!image.empty() && !cv::imwrite((dir / name).string(), image))
-      throw InputError((dir / name).string(), "cannot write the image");
+    if (!image.empty()) writeImageAtomically((dir / name).string(), image);
+  writeFileAtomically(md_path, markdown);
 }
 
 std::string formatSeconds(double s) {
@@ -109,7 +108,9 @@ int main(int argc, char** argv) {
     tools::CliArgs args(argc, argv, {"--maps", "--spawns", "--configs", "--out", "--jobs", "--budget", "--slam", "--config",
                          "--publish", "--run-timeout"},
                         {"--report-only"});
-    const Config config = loadConfig(args.get("--config", defaultConfigPath()));
+    // The grid's configuration, with --budget and --slam checked as every run will check them.
+    const Config config =
+        tools::toolConfigDocument(args, {{"--budget", "policy.budget_steps"}, {"--slam", "slam.backend"}}).parse();
     const std::string out = args.required("--out");
     const std::vector<std::string> configs = args.list("--configs", "full");
     const auto runs = makeEvalGrid(args.list("--maps", args.required("--maps")), args.integer("--spawns", 1),
@@ -118,8 +119,8 @@ int main(int argc, char** argv) {
     if (jobs < 1) throw InputError("--jobs", "must be >= 1");
     const int run_timeout = args.integer("--run-timeout", kDefaultRunTimeoutSeconds);
     if (run_timeout < 0) throw InputError("--run-timeout " + args.get("--run-timeout"), "must be >= 0 (0: no limit)");
-    const int budget = args.integer("--budget", config.policy.budget_steps);
-    const std::string slam = args.get("--slam", config.slam.backend);
+    const int budget = config.policy.budget_steps;
+    const std::string slam = config.slam.backend;
     const bool report_only = args.has("--report-only");
 
     std::vector<size_t> todo;  // indices into runs
@@ -162,6 +163,7 @@ int main(int argc, char** argv) {
           const EvalRun& r = runs[todo[next]];
           std::vector<std::string> explore_args = exploreArguments(r, slam, budget);
           if (args.has("--config")) explore_args.insert(explore_args.end(), {"--config", args.get("--config")});
+          for (const auto& assignment : args.sets()) explore_args.insert(explore_args.end(), {"--set", assignment});
           explore_args.insert(explore_args.begin(), explore);
           fs::create_directories(r.dir);
           pool.start(todo[next++], explore_args, r.dir + "/summary.json", r.dir + "/explore.log");

@@ -284,6 +284,48 @@ class Faults(unittest.TestCase):
             self.assertEqual(status, 0, err)
             self.assertEqual(partial_files(out), [])
 
+    def test_eval_reports_malformed_reports_as_failed_rows(self):
+        out = self.folder("eval_malformed")
+        shapes = {0: "[]", 1: '{"tool": "valerant_explore", "ground_truth": "x"}', 2: '{"tool": "valerant_ex'}
+        for spawn, text in shapes.items():
+            run_dir = os.path.join(out, "runs", "oa_dm1-s%d-full" % spawn)
+            os.makedirs(run_dir)
+            with open(os.path.join(run_dir, "report.json"), "w") as handle:
+                handle.write(text)
+        status, summary, err = run([tool("valerant_eval"), "--maps", "oa_dm1", "--spawns", "3", "--configs", "full",
+                                    "--out", out, "--report-only"])
+        self.assertEqual(status, 1, err)  # failed rows, not an abort
+        self.assertEqual(json.loads(summary)["failed"], 3)
+        with open(os.path.join(out, "results.csv")) as handle:
+            rows = handle.read().splitlines()[1:]
+        self.assertEqual(len(rows), 3)
+        self.assertIn("array", rows[0])
+        self.assertIn("ground_truth", rows[1])
+        self.assertTrue(os.path.isfile(os.path.join(out, "evaluation.md")))
+
+    def test_eval_run_timeout_fails_the_run_and_reports(self):
+        out = self.folder("eval_timeout")
+        started = time.time()
+        status, summary, err = run([tool("valerant_eval"), "--maps", "oa_dm1", "--spawns", "1", "--configs", "full",
+                                    "--slam", "oracle", "--budget", "15", "--run-timeout", "3", "--out", out])
+        self.assertEqual(status, 1, err)
+        self.assertLess(time.time() - started, 60)
+        with open(os.path.join(out, "results.csv")) as handle:
+            self.assertIn("timed out after 3 s", handle.read())
+        # SIGTERM let the episode stop after its step and write an interrupted report,
+        # which the grid counts as failed (and redoes next time).
+        run_dir = os.path.join(out, "runs", "oa_dm1-s0-full")
+        report = complete_report(run_dir)
+        self.assertTrue(report is None or report["interrupted"])
+        self.assertFilesWhole(run_dir)
+
+    def test_eval_budget_is_checked_before_any_run(self):
+        out = self.folder("eval_budget")
+        status, _, err = run([tool("valerant_eval"), "--maps", "oa_dm1", "--budget", "1000000000", "--out", out])
+        self.assertEqual(status, 1)
+        self.assertIn("--budget 1000000000: policy.budget_steps: value", err)
+        self.assertFalse(os.path.exists(os.path.join(out, "runs")))
+
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
