@@ -16,15 +16,15 @@ namespace valerant::tools {
 
 class CliArgs {
  public:
-  // `options` take a value, `flags` do not; every tool also takes `--set key=value`
-  // (repeatable: configuration overrides, tool_config.h).
+  // `options` take a value, `flags` do not. A tool that lists "--set" among its options
+  // takes it any number of times (configuration overrides, tool_config.h).
   CliArgs(int argc, char** argv, const std::set<std::string>& options,
           const std::set<std::string>& flags = {}) {
     for (int i = 1; i < argc; ++i) {
       const std::string arg = argv[i];
       if (flags.count(arg)) {
         values_[arg] = "1";
-      } else if (options.count(arg) || arg == kSet) {
+      } else if (options.count(arg)) {
         if (i + 1 >= argc) throw InputError(arg, "needs a value");
         if (arg == kSet) {
           sets_.push_back(argv[++i]);

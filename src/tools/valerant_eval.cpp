@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
   handleStopSignals();
   try {
     tools::CliArgs args(argc, argv, {"--maps", "--spawns", "--configs", "--out", "--jobs", "--budget", "--slam", "--config",
-                         "--publish", "--run-timeout"},
+                         "--publish", "--run-timeout", "--set"},
                         {"--report-only"});
     // The grid's configuration, with --budget and --slam checked as every run will check them.
     const Config config =

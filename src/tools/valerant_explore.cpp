@@ -76,7 +76,7 @@ void requireNoConfigFlags(const tools::CliArgs& args) {
 
 int main(int argc, char** argv) {
   try {
-    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--slam", "--budget", "--seed", "--config", "--out", "--policy"},
+    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--slam", "--budget", "--seed", "--config", "--out", "--policy", "--set"},
                         {"--no-rf", "--no-col-pc", "--no-col-depth", "--no-dp", "--force", "--resume"});
     const std::string out = args.required("--out");
     if (args.has("--force") && args.has("--resume")) throw InputError("--force, --resume", "choose one");

@@ -73,7 +73,7 @@ nlohmann::json writeRollout(const Rollout& r, const std::string& dir, int every)
 
 int main(int argc, char** argv) {
   try {
-    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidate", "--config", "--out", "--every"});
+    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidate", "--config", "--out", "--every", "--set"});
     const Config config =
         tools::toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}}).parse();
     const std::string out = args.required("--out");

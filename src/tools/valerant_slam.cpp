@@ -139,7 +139,7 @@ nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context
 
 int main(int argc, char** argv) {
   try {
-    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--config", "--out"});
+    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--config", "--out", "--set"});
     const Config config =
         tools::toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}, {"--slam", "slam.backend"}})
             .parse();

@@ -52,3 +52,13 @@ TEST(CliArgs, UnknownOptionsAndMissingValuesAreErrors) {
   EXPECT_THROW(parse({"--maps", ","}).list("--maps", ""), InputError);
   EXPECT_EQ(parse({"--maps", "oa_dm1,,oa_dm5"}).list("--maps", ""), (std::vector<std::string>{"oa_dm1", "oa_dm5"}));
 }
+
+TEST(CliArgs, SetIsRepeatableWhereAToolTakesIt) {
+  EXPECT_THROW(parse({"--set", "policy.budget_steps=3"}), InputError);  // this tool does not take --set
+  std::vector<std::string> words = {"valerant_test_tool", "--set", "a.b=1", "--spawn", "2", "--set", "c.d=x"};
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  const CliArgs args(static_cast<int>(argv.size()), argv.data(), {"--spawn", "--set"});
+  EXPECT_EQ(args.sets(), (std::vector<std::string>{"a.b=1", "c.d=x"}));
+  EXPECT_EQ(args.integer("--spawn", 0), 2);
+}
