@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "../cli_args.h"
+#include "../tool_config.h"
 #include "bench.h"
 #include "valerant/world/quake3/quake3_world.h"
 
@@ -18,9 +19,7 @@ double peakResidentMiB() {
 
 nlohmann::json benchRender(int argc, char** argv) {
   CliArgs args(argc, argv, {"--map", "--frames", "--spawn", "--config"});
-  Config config = loadConfig(args.get("--config", defaultConfigPath()));
-  config.world.map = args.get("--map", config.world.map);
-  config.world.spawn = args.integer("--spawn", config.world.spawn);
+  const Config config = toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}}).parse();
   const long frames = args.integer("--frames", 1000);
   if (frames < 1) throw InputError("--frames", "must be >= 1");
 

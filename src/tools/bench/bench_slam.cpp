@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "../cli_args.h"
+#include "../tool_config.h"
 #include "../thread_clock.h"
 #include "bench.h"
 #include "valerant/slam/slam_factory.h"
@@ -36,10 +37,9 @@ int pinToOneCpu() {
 
 nlohmann::json benchSlam(int argc, char** argv) {
   CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--repeats", "--config"});
-  Config config = loadConfig(args.get("--config", defaultConfigPath()));
-  config.world.map = args.get("--map", config.world.map);
-  config.world.spawn = args.integer("--spawn", config.world.spawn);
-  const std::string backend = args.get("--slam", config.slam.backend);
+  Config config =
+      toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}, {"--slam", "slam.backend"}}).parse();
+  const std::string backend = config.slam.backend;
   const long repeats = args.integer("--repeats", 3);
   if (repeats < 1) throw InputError("--repeats", "must be >= 1");
   std::vector<ActionSequence> sequences;  // validated before the map is loaded
