@@ -5,9 +5,12 @@
 # (outside the working tree; kept while the machine stays warm), `start` trains in the
 # background and waits as long as a call may, `collect` waits for the end and copies
 # the results to $OUT/run.
-#   learn/gpu_train.sh stage             copy the carried data/*/*.zip to $VDATA
+#   learn/gpu_train.sh stage             copy the carried $DATA/train_*/*.zip and $DATA/eval/*.zip to $VDATA
 #   learn/gpu_train.sh start MINUTES     stage, then train for MINUTES (in the background)
 #   learn/gpu_train.sh collect           wait for the training, copy its files to $OUT/run
+# DATA (default data) may name several folders, space-separated, relative to the folder
+# above learn/: each call may carry other parts (a folder train_X of one call and one of
+# the same name in another call must not hold shards of the same name).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VDATA=${VDATA:-/root/vdata}
@@ -27,8 +30,10 @@ if [ "$mode" = collect ]; then
   exit "$(cat "$RUN.done")"
 fi
 mkdir -p "$VDATA/train" "$VDATA/eval"
-for f in data/train_*/*.zip; do [ -f "$f" ] && cp "$f" "$VDATA/train/$(basename "$(dirname "$f")")_$(basename "$f")"; done
-for f in data/eval/*.zip; do [ -f "$f" ] && cp "$f" "$VDATA/eval/"; done
+for root in ${DATA:-data}; do
+  for f in "$root"/train_*/*.zip; do [ -f "$f" ] && cp "$f" "$VDATA/train/$(basename "$(dirname "$f")")_$(basename "$f")"; done
+  for f in "$root"/eval/*.zip; do [ -f "$f" ] && cp "$f" "$VDATA/eval/"; done
+done
 echo "staged: $(ls "$VDATA/train" | wc -l) training shards, $(ls "$VDATA/eval" | wc -l) evaluation shards"
 du -sh "$VDATA/train" "$VDATA/eval"
 python3 -c 'import torch, cv2, onnx; print("torch", torch.__version__, "cuda", torch.cuda.is_available(), torch.cuda.get_device_name(0) if torch.cuda.is_available() else "-", "cv2", cv2.__version__, "onnx", onnx.__version__)'

@@ -8,7 +8,7 @@ namespace valerant::dataset {
 
 MapRenderStats renderMapDataset(const quake3::Quake3Map& map, const std::string& map_name, const Config& config,
                                 const SamplingParams& params, uint64_t seed, bool keep_in_solid, int first_sequence,
-                                const FrameSink& sink) {
+                                const FrameSink& sink, const TextureShuffle& shuffle) {
   const WorldConfig& w = config.world;
   const double units_per_metre = config.exports.units_per_metre;
   quake3::CameraKinematics kinematics(*map.collision, w.eye_height_units, w.max_drop_units);
@@ -32,9 +32,14 @@ MapRenderStats renderMapDataset(const quake3::Quake3Map& map, const std::string&
   options.far_plane = static_cast<float>(w.far_plane_units);
   quake3::OsMesaRenderer renderer(map.bsp, map.geometry, *map.textures,
                                   CameraIntrinsics::fromHorizontalFov(w.width, w.height, w.fov_x_deg), options);
+  const std::vector<int> retexturable = shuffle.enabled() ? renderer.retexturableShaders() : std::vector<int>();
   MapRenderStats stats;
   for (size_t s = 0; s < plan.size(); ++s) {
     const SequenceSpec& spec = plan[s];
+    if (shuffle.enabled()) {
+      std::mt19937_64 texture_rng(mapSeed(seed, map_name) ^ (0xD1B54A32D192ED03ULL * (s + 1)));
+      renderer.overrideTextures(shuffleTextures(retexturable, shuffle, texture_rng));
+    }
     const std::vector<MotionStep>& steps = spec.actions.steps;
     quake3::CameraState camera = spec.start;
     size_t last_kept = 0;

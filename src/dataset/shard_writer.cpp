@@ -98,7 +98,8 @@ void ShardWriter::finish() {
                                {"maps", std::vector<std::string>(maps.begin(), maps.end())},
                                {"frames", records_.size()},
                                {"units_per_metre", meta_.units_per_metre},
-                               {"eye_height_m", meta_.eye_height_m}};
+                               {"eye_height_m", meta_.eye_height_m},
+                               {"texture_shuffle", meta_.texture_shuffle}};
   std::vector<Entry> all;
   all.push_back({"meta.json", bytesOf(meta.dump(1) + "\n"), true});
   all.push_back({"frames.csv", bytesOf(csv.str()), true});

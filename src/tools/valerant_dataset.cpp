@@ -5,11 +5,18 @@
 // is every installed map except the held-out ones, `evaluation` the evaluation maps.
 // One JSON line on stdout; progress on stderr.
 //
+// --texture-shuffle P (training split only; 0 to 1): domain randomisation. Per sequence
+// each opaque surface's shader wears, with probability P, another image from the pool of
+// every training map's opaque images (tinted half the time) or, a fifth of those times,
+// a flat random colour (dataset/texture_shuffle.h); deterministic from --seed.
+//
 //   valerant_dataset --out DIR [--split train|evaluation] [--maps A,B,...] [--exclude A,B]
 //                    [--seed N] [--width 128] [--height 96] [--spawns 3] [--rotations 12]
 //                    [--walks 12] [--shard-mib 24] [--in-solid skip|keep] [--config FILE]
+//                    [--texture-shuffle P]
 //   valerant_dataset --list-maps [--split ...] [--maps ...] [--exclude ...]   (the maps, one a line)
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -50,6 +57,15 @@ std::vector<std::string> chooseMaps(const tools::CliArgs& args, const dataset::M
   return maps;
 }
 
+double probability(const tools::CliArgs& args, const std::string& key) {
+  const std::string text = args.get(key, "0");
+  char* end = nullptr;
+  const double p = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(p >= 0.0 && p <= 1.0))
+    throw InputError(key + " " + text, "must be a probability from 0 to 1");
+  return p;
+}
+
 int positive(const tools::CliArgs& args, const std::string& key, int fallback) {
   const int v = args.integer(key, fallback);
   if (v < 0) throw InputError(key + " " + std::to_string(v), "must not be negative");
@@ -62,7 +78,8 @@ int main(int argc, char** argv) {
   try {
     tools::CliArgs args(argc, argv,
                         {"--out", "--split", "--maps", "--exclude", "--seed", "--width", "--height", "--spawns",
-                         "--rotations", "--walks", "--shard-mib", "--in-solid", "--config", "--map-sets"},
+                         "--rotations", "--walks", "--shard-mib", "--in-solid", "--config", "--map-sets",
+                         "--texture-shuffle"},
                         {"--list-maps"});
     Config config = loadConfig(args.get("--config", defaultConfigPath()));
     const std::string split = args.get("--split", "train");
@@ -88,8 +105,28 @@ int main(int argc, char** argv) {
     params.walks = positive(args, "--walks", params.walks);
     const int shard_mib = args.integer("--shard-mib", 24);
     if (shard_mib < 1 || shard_mib > 60) throw InputError("--shard-mib " + std::to_string(shard_mib), "must be 1 to 60");
+    const double texture_shuffle = probability(args, "--texture-shuffle");
+    if (texture_shuffle > 0 && split != "train")
+      throw InputError("--texture-shuffle", "randomises training data only; an evaluation shard shows the maps as they are");
     const std::string out = args.required("--out");
     fs::create_directories(out);
+
+    // The pool is every training map's, whichever maps this run renders, so runs over
+    // parts of the list draw from the same images.
+    dataset::TexturePool pool;
+    dataset::TextureShuffle shuffle;
+    if (texture_shuffle > 0) {
+      std::vector<std::string> pool_maps;
+      for (const auto& m : quake3::installedMapNames())
+        if (!sets.isHeldOut(m)) pool_maps.push_back(m);
+      quake3::Pk3FileSystem pk3;
+      pk3.mountDirectory(quake3::Pk3FileSystem::defaultDataDir());
+      pool = dataset::buildTexturePool(pk3, pool_maps);
+      shuffle.pool = &pool;
+      shuffle.probability = texture_shuffle;
+      std::cerr << "valerant_dataset: texture pool of " << pool.images.size() << " images from " << pool_maps.size()
+                << " training maps\n";
+    }
 
     dataset::ShardMeta meta;
     meta.intrinsics = CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg);
@@ -97,6 +134,7 @@ int main(int argc, char** argv) {
     meta.split = split;
     meta.units_per_metre = config.exports.units_per_metre;
     meta.eye_height_m = config.world.eye_height_units / config.exports.units_per_metre;
+    meta.texture_shuffle = texture_shuffle;
 
     std::vector<std::string> shards;
     std::unique_ptr<dataset::ShardWriter> shard;
@@ -120,7 +158,7 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < maps.size(); ++i) {
       const auto map = quake3::loadQuake3Map(maps[i], config.world.patch_level);
       const dataset::MapRenderStats s =
-          dataset::renderMapDataset(*map, maps[i], config, params, seed, in_solid == "keep", sequence, sink);
+          dataset::renderMapDataset(*map, maps[i], config, params, seed, in_solid == "keep", sequence, sink, shuffle);
       sequence += s.sequences;
       frames += s.frames;
       in_solid_stops += s.in_solid_stops;
@@ -132,7 +170,8 @@ int main(int argc, char** argv) {
     const nlohmann::json line = {{"tool", "valerant_dataset"}, {"split", split},   {"seed", seed},
                                  {"width", config.world.width}, {"height", config.world.height},
                                  {"maps", maps},  {"frames", frames}, {"frames_per_map", per_map},
-                                 {"sequences_stopped_in_solid", in_solid_stops}, {"shards", shards}};
+                                 {"sequences_stopped_in_solid", in_solid_stops}, {"shards", shards},
+                                 {"texture_shuffle", texture_shuffle}, {"texture_pool_images", pool.images.size()}};
     std::cout << line.dump() << std::endl;
     return 0;
   } catch (const std::exception& e) {

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <zip.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <random>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -16,6 +19,7 @@
 #include "valerant/dataset/log_depth_code.h"
 #include "valerant/dataset/map_sets.h"
 #include "valerant/dataset/shard_writer.h"
+#include "valerant/dataset/texture_shuffle.h"
 
 using namespace valerant;
 using namespace valerant::dataset;
@@ -189,4 +193,103 @@ TEST(DatasetRender, OneMapsSequencesStayOutOfSolidAndRepeat) {
     rotate += first[i].kind == "rotate";
   }
   EXPECT_EQ(rotate, 4 * config.rollout.horizon_frames / params.rotation_every + 1);  // 0, 30, ..., 360 deg
+}
+
+TEST(TextureShuffle, AssignmentsFollowTheProbabilityAndTheSeed) {
+  TexturePool pool;
+  pool.paths = {"a.jpg", "b.jpg"};
+  pool.images = {cv::Mat(8, 8, CV_8UC3, cv::Scalar(200, 10, 10)), cv::Mat(8, 4, CV_8UC3, cv::Scalar(10, 200, 10))};
+  const std::vector<int> shaders{3, 5, 8, 13};
+  TextureShuffle shuffle;
+  std::mt19937_64 rng(1);
+  EXPECT_TRUE(shuffleTextures(shaders, shuffle, rng).empty());  // no pool
+  shuffle.pool = &pool;
+  EXPECT_TRUE(shuffleTextures(shaders, shuffle, rng).empty());  // probability 0
+  shuffle.probability = 1;
+  shuffle.flat_fraction = 0;
+  shuffle.tint_probability = 0;
+  std::mt19937_64 a(7), b(7);
+  const auto first = shuffleTextures(shaders, shuffle, a), second = shuffleTextures(shaders, shuffle, b);
+  ASSERT_EQ(first.size(), shaders.size());
+  for (int s : shaders) {
+    ASSERT_EQ(first.count(s), 1u);
+    // Untinted: one of the pool's images itself, the same for the same seed.
+    EXPECT_TRUE(first.at(s).data == pool.images[0].data || first.at(s).data == pool.images[1].data);
+    EXPECT_EQ(first.at(s).data, second.at(s).data);
+  }
+  // Tinted pool images keep their size, flat colours are uniform.
+  shuffle.tint_probability = 1;
+  for (const auto& [s, image] : shuffleTextures(shaders, shuffle, rng)) {
+    EXPECT_EQ(image.type(), CV_8UC3);
+    EXPECT_TRUE(image.size() == pool.images[0].size() || image.size() == pool.images[1].size());
+  }
+  shuffle.flat_fraction = 1;
+  for (const auto& [s, image] : shuffleTextures(shaders, shuffle, rng)) {
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(image, mean, stddev);
+    EXPECT_EQ(stddev[0] + stddev[1] + stddev[2], 0.0);
+  }
+  // About half of 400 shaders at probability 0.5.
+  std::vector<int> many(400);
+  std::iota(many.begin(), many.end(), 0);
+  shuffle.probability = 0.5;
+  const size_t chosen = shuffleTextures(many, shuffle, rng).size();
+  EXPECT_GT(chosen, 150u);
+  EXPECT_LT(chosen, 250u);
+}
+
+TEST(TextureShuffle, PoolAndShuffledFramesOfOneMap) {
+  VALERANT_REQUIRE_OPENARENA();
+  quake3::Pk3FileSystem pk3;
+  pk3.mountDirectory(quake3::Pk3FileSystem::defaultDataDir());
+  const TexturePool pool = buildTexturePool(pk3, {"oa_dm1"}, 32);
+  ASSERT_GE(pool.images.size(), 10u);
+  EXPECT_TRUE(std::is_sorted(pool.paths.begin(), pool.paths.end()));
+  EXPECT_EQ(std::adjacent_find(pool.paths.begin(), pool.paths.end()), pool.paths.end());
+  for (const auto& image : pool.images) {
+    EXPECT_EQ(image.type(), CV_8UC3);
+    EXPECT_LE(std::max(image.cols, image.rows), 32);
+  }
+  // Blended and sky images stay out of the pool.
+  EXPECT_EQ(std::count(pool.paths.begin(), pool.paths.end(), "textures/sfx/beam.jpg"), 0);
+  EXPECT_THROW(buildTexturePool(pk3, {"no_such_map"}), InputError);
+
+  // The same sequences and depth with and without the shuffle, other colours.
+  Config config = loadConfig(defaultConfigPath());
+  config.world.width = 64;
+  config.world.height = 48;
+  SamplingParams params;
+  params.spawns = 1;
+  params.rotations = 1;
+  params.walks = 1;
+  const auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+  struct Frame {
+    FrameRecord r;
+    cv::Mat rgb, depth;
+  };
+  auto render = [&](const TextureShuffle& shuffle) {
+    std::vector<Frame> frames;
+    renderMapDataset(*map, "oa_dm1", config, params, 3, false, 0,
+                     [&](const FrameRecord& r, const cv::Mat& rgb, const cv::Mat& depth) {
+                       frames.push_back({r, rgb.clone(), depth.clone()});
+                     },
+                     shuffle);
+    return frames;
+  };
+  TextureShuffle shuffle;
+  shuffle.pool = &pool;
+  shuffle.probability = 1;
+  const auto own = render({}), shuffled = render(shuffle), again = render(shuffle);
+  ASSERT_EQ(own.size(), shuffled.size());
+  ASSERT_EQ(own.size(), again.size());
+  double colour_change = 0;
+  for (size_t i = 0; i < own.size(); ++i) {
+    EXPECT_EQ(own[i].r.eye_m, shuffled[i].r.eye_m);
+    EXPECT_EQ(own[i].r.key, shuffled[i].r.key);
+    EXPECT_EQ(cv::countNonZero(own[i].depth == own[i].depth), cv::countNonZero(shuffled[i].depth == shuffled[i].depth));
+    EXPECT_EQ(cv::norm(own[i].depth, shuffled[i].depth, cv::NORM_L1, own[i].depth == own[i].depth), 0.0);
+    EXPECT_EQ(cv::norm(shuffled[i].rgb, again[i].rgb, cv::NORM_L1), 0.0);  // deterministic
+    colour_change += cv::norm(own[i].rgb, shuffled[i].rgb, cv::NORM_L1) / own[i].rgb.total();
+  }
+  EXPECT_GT(colour_change / own.size(), 20.0);  // mean absolute change per pixel, summed over channels
 }

@@ -3,10 +3,13 @@
 // walls, outside the map and with a broken pose, and where textures come from.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include "openarena_data.h"
+#include "valerant/common/error.h"
 #include "valerant/world/quake3/osmesa_renderer.h"
 
 using namespace valerant;
@@ -170,6 +173,41 @@ TEST(OsMesaRenderer, TexturesComeFromImagesAndShaderScripts) {
   EXPECT_GT(s.images, 3 * (s.shader_stages + s.placeholders));
   EXPECT_GT(s.shader_stages, 0);
   EXPECT_LE(s.placeholders, 1);
+}
+
+TEST(OsMesaRenderer, OverriddenTexturesChangeColourNotDepth) {
+  VALERANT_REQUIRE_OPENARENA();
+  const OaDm1& d = oaDm1();
+  const CameraIntrinsics small = CameraIntrinsics::fromHorizontalFov(64, 48, 90);
+  OsMesaRenderer renderer(d.map, d.geometry, *d.textures, small);
+  const std::vector<int> shaders = renderer.retexturableShaders();
+  ASSERT_GE(shaders.size(), 10u);
+  ASSERT_TRUE(std::is_sorted(shaders.begin(), shaders.end()));
+  // The light beam blends additively: its texture stays its own.
+  for (int s : shaders) EXPECT_EQ(d.map.shaders[s].name.find("textures/sfx/beam"), std::string::npos);
+  const SpawnPoint spawn = d.map.spawnPoints().at(0);
+  const Eigen::Isometry3f pose = cameraPose(spawnEye(spawn), spawn.yaw_deg, 10);
+  const RenderedView own = renderer.render(pose);
+
+  // Every retexturable shader pure green: lit by the lightmaps, so no red or blue is left
+  // where they are drawn, and the depth is the same to the bit.
+  std::map<int, cv::Mat> green;
+  for (int s : shaders) green[s] = cv::Mat(4, 4, CV_8UC3, cv::Scalar(0, 255, 0));
+  renderer.overrideTextures(green);
+  const RenderedView shuffled = renderer.render(pose);
+  EXPECT_EQ(cv::norm(own.depth, shuffled.depth, cv::NORM_L1, own.depth == own.depth), 0.0);
+  EXPECT_EQ(cv::countNonZero(own.depth == own.depth), cv::countNonZero(shuffled.depth == shuffled.depth));
+  std::vector<cv::Mat> channels;
+  cv::split(shuffled.rgb, channels);
+  EXPECT_GT(cv::countNonZero(channels[1] > 20), 0.8 * shuffled.rgb.total());
+  EXPECT_GT(cv::countNonZero(channels[0] == 0), 0.8 * shuffled.rgb.total());
+  EXPECT_GT(cv::norm(own.rgb, shuffled.rgb, cv::NORM_L1), 10.0 * own.rgb.total());
+
+  // One shader only, and the rest keep their own; an empty map restores every texture.
+  renderer.overrideTextures({{shaders.front(), green.begin()->second}});
+  renderer.overrideTextures({});
+  EXPECT_EQ(cv::norm(own.rgb, renderer.render(pose).rgb, cv::NORM_L1), 0.0);
+  EXPECT_THROW(renderer.overrideTextures({{shaders.front(), cv::Mat(4, 4, CV_8UC1)}}), InputError);
 }
 
 TEST(TextureLibrary, ResolvesImagesShaderStagesAndPlaceholders) {

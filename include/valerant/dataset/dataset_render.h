@@ -7,6 +7,7 @@
 
 #include "valerant/dataset/dataset_sequences.h"
 #include "valerant/dataset/shard_writer.h"
+#include "valerant/dataset/texture_shuffle.h"
 #include "valerant/world/quake3/quake3_map.h"
 
 namespace cv {
@@ -22,9 +23,12 @@ struct MapRenderStats {
 };
 
 // `config.world.width/height/fov_x_deg` set the frame size. Throws InputError naming
-// the map when it has no spawn with a floor under it.
+// the map when it has no spawn with a floor under it. With `shuffle` enabled, each
+// sequence draws a new texture assignment (texture_shuffle.h) from its own generator,
+// seeded by `seed`, the map and the sequence: the sequences and poses are those of the
+// same seed without it.
 MapRenderStats renderMapDataset(const quake3::Quake3Map& map, const std::string& map_name, const Config& config,
                                 const SamplingParams& params, uint64_t seed, bool keep_in_solid, int first_sequence,
-                                const FrameSink& sink);
+                                const FrameSink& sink, const TextureShuffle& shuffle = {});
 
 }  // namespace valerant::dataset

@@ -38,6 +38,7 @@ struct ShardMeta {
   double units_per_metre = 32;
   double eye_height_m = 0;
   int jpeg_quality = 90;
+  double texture_shuffle = 0;  // valerant_dataset --texture-shuffle (0: the maps' own textures)
 };
 
 class ShardWriter {

@@ -167,7 +167,9 @@ struct OsMesaRenderer::Impl {
   // Surfaces drawn with the same textures share a batch. The buffers hold each batch's
   // faces contiguously, so a run of visible neighbours is one index range.
   struct Batch {
-    GLuint texture = 0;
+    int shader = -1;
+    GLuint texture = 0;       // what is drawn: own_texture unless overridden
+    GLuint own_texture = 0;   // the shader's own image
     GLuint lightmap = 0;      // a white texel when the surface has none
     bool vertex_lit = false;  // vertex colours light it instead
     StageRendering stage;
@@ -178,6 +180,7 @@ struct OsMesaRenderer::Impl {
     float nearest = 0;
   };
   std::vector<Batch> batches;
+  std::map<int, GLuint> override_textures;  // shader -> texture uploaded by overrideTextures
   // Per frame: batches with visible faces, opaque ones near first, then blended ones
   // far first (they write no depth and must see what is behind them).
   std::vector<int> draw_order;
@@ -191,6 +194,10 @@ struct OsMesaRenderer::Impl {
   Impl(const BspMap& m, const MapGeometry& g, const RenderOptions& o) : map(m), geometry(g), options(o) {}
   ~Impl() {
     if (context) OSMesaDestroyContext(context);
+  }
+
+  static bool retexturable(const Batch& b) {
+    return b.stage.blend == StageRendering::Blend::kNone && b.stage.alpha_test == StageRendering::AlphaTest::kNone;
   }
 
   void buildBatches(const TextureLibrary& textures, TextureStats& stats);
@@ -235,7 +242,8 @@ void OsMesaRenderer::Impl::buildBatches(const TextureLibrary& textures, TextureS
     if (added) {
       batches.emplace_back();
       Batch& b = batches.back();
-      b.texture = texture->second;
+      b.shader = s.shader;
+      b.texture = b.own_texture = texture->second;
       b.stage = shader_stage[s.shader];
       // Blended stages show their texture unlit, as the game's default rgbGen does.
       const bool opaque = b.stage.blend == StageRendering::Blend::kNone;
@@ -440,6 +448,35 @@ OsMesaRenderer::OsMesaRenderer(const BspMap& map, const MapGeometry& geometry, c
 }
 
 OsMesaRenderer::~OsMesaRenderer() = default;
+
+std::vector<int> OsMesaRenderer::retexturableShaders() const {
+  std::vector<int> shaders;
+  for (const auto& b : impl_->batches)
+    if (Impl::retexturable(b)) shaders.push_back(b.shader);
+  std::sort(shaders.begin(), shaders.end());
+  shaders.erase(std::unique(shaders.begin(), shaders.end()), shaders.end());
+  return shaders;
+}
+
+void OsMesaRenderer::overrideTextures(const std::map<int, cv::Mat>& rgb_by_shader) {
+  Impl& r = *impl_;
+  OSMesaMakeCurrent(r.context, r.colour_buffer.data(), GL_UNSIGNED_BYTE, intrinsics_.width, intrinsics_.height);
+  for (const auto& [shader, image] : rgb_by_shader)
+    if (image.empty() || image.type() != CV_8UC3)
+      throw InputError("texture override of shader " + std::to_string(shader), "needs a CV_8UC3 RGB image");
+  for (auto& b : r.batches) b.texture = b.own_texture;
+  for (const auto& [shader, id] : r.override_textures) glDeleteTextures(1, &id);
+  r.override_textures.clear();
+  for (auto& b : r.batches) {
+    if (!Impl::retexturable(b)) continue;
+    const auto image = rgb_by_shader.find(b.shader);
+    if (image == rgb_by_shader.end()) continue;
+    auto [id, fresh] = r.override_textures.emplace(b.shader, 0);
+    if (fresh) id->second = uploadTexture(image->second, cv::Mat(), false);
+    b.texture = id->second;
+  }
+  if (glGetError() != GL_NO_ERROR) throw InputError("renderer of map '" + r.map.name + "'", "texture upload failed");
+}
 
 RenderedView OsMesaRenderer::render(const Eigen::Isometry3f& camera_to_world) {
   Impl& r = *impl_;

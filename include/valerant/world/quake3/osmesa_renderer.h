@@ -7,7 +7,9 @@
 //
 // One renderer owns one OSMesa context and must be used from one thread at a time.
 #include <Eigen/Geometry>
+#include <map>
 #include <memory>
+#include <vector>
 #include <opencv2/core.hpp>
 
 #include "valerant/common/camera.h"
@@ -44,6 +46,15 @@ class OsMesaRenderer {
   // `camera_to_world`: optical frame (x right, y down, z forward) in the BSP frame.
   RenderedView render(const Eigen::Isometry3f& camera_to_world);
   const TextureStats& textureStats() const { return stats_; }
+
+  // Domain randomisation (valerant_dataset --texture-shuffle): the shaders whose
+  // surfaces are drawn opaque without alpha test, so another image changes only their
+  // appearance, never which pixels they cover or the depth; sorted BSP shader indices.
+  std::vector<int> retexturableShaders() const;
+  // Until the next call, draws every retexturable shader listed with its image (CV_8UC3
+  // RGB, any size; rounded down to powers of two) instead of its own, still lit by its
+  // lightmap or vertex colours; other shaders keep their own. An empty map restores all.
+  void overrideTextures(const std::map<int, cv::Mat>& rgb_by_shader);
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
 
  private:
