@@ -326,6 +326,55 @@ class Faults(unittest.TestCase):
         self.assertIn("--budget 1000000000: policy.budget_steps: value", err)
         self.assertFalse(os.path.exists(os.path.join(out, "runs")))
 
+    def map_archive(self, name, edit_bsp=None, corrupt_stored_byte=False):
+        """A pk3 holding oa_dm1's BSP as maps/NAME.bsp, edited by `edit_bsp(bytearray)`,
+        stored uncompressed; with `corrupt_stored_byte` one byte of the stored data is
+        flipped after the archive is written, so the entry's CRC no longer matches."""
+        source = "/usr/share/games/openarena/baseoa/pak1-maps.pk3"
+        with zipfile.ZipFile(source) as archive:
+            bsp = bytearray(archive.read("maps/oa_dm1.bsp"))
+        if edit_bsp:
+            edit_bsp(bsp)
+        path = os.path.join(self.scratch, name + ".pk3")
+        entry = "maps/%s.bsp" % name
+        with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_STORED) as archive:
+            archive.writestr(entry, bytes(bsp))
+        if corrupt_stored_byte:
+            with zipfile.ZipFile(path) as archive:
+                info = archive.getinfo(entry)
+            with open(path, "r+b") as handle:
+                handle.seek(info.header_offset + 26)
+                name_length, extra_length = struct.unpack("<HH", handle.read(4))
+                middle = info.header_offset + 30 + name_length + extra_length + len(bsp) // 2
+                handle.seek(middle)
+                byte = handle.read(1)[0]
+                handle.seek(middle)
+                handle.write(bytes([byte ^ 0xFF]))
+        return path + ":" + name
+
+    def test_bsp_with_a_cycle_in_its_node_tree(self):
+        def cycle(bsp):
+            # Lump 3 (nodes): plane, children[2], mins[3], maxs[3] as int32, 36 bytes a
+            # node. The root's first child becomes the root: descending never ends.
+            offset, length = struct.unpack_from("<ii", bsp, 8 + 3 * 8)
+            self.assertGreater(length, 36)
+            struct.pack_into("<i", bsp, offset + 4, 0)
+
+        spec = self.map_archive("cyclic_dm1", edit_bsp=cycle)
+        status, _, err = run([tool("valerant_explore"), "--map", spec, "--slam", "oracle", "--budget", "1",
+                              "--out", self.folder("cyclic")], timeout=120)
+        self.assertEqual(status, 1, err)
+        self.assertIn("cyclic_dm1.bsp", err)
+        self.assertIn("cycle", err.lower())
+
+    def test_pk3_entry_with_a_bad_crc(self):
+        spec = self.map_archive("crc_dm1", corrupt_stored_byte=True)
+        status, _, err = run([tool("valerant_explore"), "--map", spec, "--slam", "oracle", "--budget", "1",
+                              "--out", self.folder("crc")], timeout=120)
+        self.assertEqual(status, 1, err)
+        self.assertIn("crc_dm1.bsp", err)
+        self.assertIn("crc", err.lower())
+
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
