@@ -20,6 +20,16 @@ Cell2 metreCell(double x_units, double y_units) {
 
 }  // namespace
 
+PenetrationCounts countPenetrations(const std::vector<FrameTruth>& truth) {
+  PenetrationCounts c;
+  for (const auto& f : truth) {
+    c.frames += f.in_solid;
+    c.in_solid += f.hull_in_solid;
+    c.outside_world += f.outside_world;
+  }
+  return c;
+}
+
 int stepInSolidFrames(const StepRecord& step) {
   int frames = 0;
   if (step.chosen >= 0)
@@ -35,7 +45,9 @@ std::vector<PenetrationEvent> penetrationEvents(const std::vector<StepRecord>& h
     const CandidateRecord& c = step.candidates.at(step.chosen);
     int first = 0;
     while (!c.truth[first].in_solid) ++first;
-    events.push_back({step.step, c.verdict.candidate, frames, first, c.verdict.occupied_max, c.verdict.min_near_ratio});
+    const PenetrationCounts counts = countPenetrations(c.truth);
+    events.push_back({step.step, c.verdict.candidate, frames, counts.in_solid, counts.outside_world, first,
+                      c.verdict.occupied_max, c.verdict.min_near_ratio});
   }
   return events;
 }
@@ -50,7 +62,10 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   EpisodeTruth t;
   const auto& truth = episode.truth();
   t.committed_frames = static_cast<int>(truth.size());
-  for (const auto& f : truth) t.penetrating_frames += f.in_solid;
+  const PenetrationCounts penetrations = countPenetrations(truth);
+  t.penetrating_frames = penetrations.frames;
+  t.penetrating_frames_in_solid = penetrations.in_solid;
+  t.penetrating_frames_outside_world = penetrations.outside_world;
   // The context frames are in the trajectory but in no step: a spawn is never in solid.
   t.discarded_penetrating_frames = committedInSolidFrames(episode.history()) - t.penetrating_frames;
 

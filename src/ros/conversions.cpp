@@ -248,6 +248,8 @@ valerant::GroundTruth toMsg(const FrameTruth& truth, bool with_depth) {
   if (with_depth) msg.depth = toImageMsg(truth.depth_m);
   msg.in_solid = truth.in_solid;
   msg.floor_z = truth.floor_z;
+  msg.hull_in_solid = truth.hull_in_solid;
+  msg.outside_world = truth.outside_world;
   return msg;
 }
 
@@ -257,6 +259,8 @@ FrameTruth fromMsg(const valerant::GroundTruth& msg) {
   t.depth_m = fromImageMsg(msg.depth);
   t.in_solid = msg.in_solid;
   t.floor_z = msg.floor_z;
+  t.hull_in_solid = msg.hull_in_solid;
+  t.outside_world = msg.outside_world;
   return t;
 }
 

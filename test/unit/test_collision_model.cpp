@@ -6,6 +6,7 @@
 #include "valerant/world/quake3/collision_model.h"
 #include "valerant/world/quake3/pk3_archive.h"
 #include "valerant/world/quake3/player_hull.h"
+#include "valerant/world/quake3/reachable_floor.h"
 
 #include "brush_world.h"
 #include "openarena_data.h"
@@ -201,6 +202,26 @@ TEST_F(CollisionModelOnMap, BoxInsideAWallIsSolid) {
     EXPECT_TRUE(model_->boxInSolid(b.bounds.center(), Vector3f::Constant(-2), Vector3f::Constant(2)));
   }
   EXPECT_GT(walls, 0);
+}
+
+// The playable world holds every spawn and every hull centre (28 above the feet) of
+// the floor walkable from the first spawn, so in-world poses never count as
+// penetrations; 16 units past the world model's bounds is outside, as is a point far
+// below the map.
+TEST_F(CollisionModelOnMap, WalkableFloorIsInsideThePlayableWorld) {
+  ASSERT_TRUE(model_->playableWorld().has_value());
+  const Vector3f centre_above_feet(0, 0, 28);
+  for (const auto& s : map_->spawnPoints()) EXPECT_FALSE(model_->pointOutsideWorld(s.origin)) << s.origin.transpose();
+  const ReachableFloor floor = floodFillReachableFloor(*model_, map_->spawnPoints().front().origin);
+  ASSERT_GT(floor.cells.size(), 1000u);
+  int outside = 0;
+  for (const auto& c : floor.cells) outside += model_->pointOutsideWorld(c + centre_above_feet);
+  EXPECT_EQ(outside, 0) << "of " << floor.cells.size() << " walkable cells";
+  const BspModel& world = map_->models[0];
+  const Vector3f spawn = map_->spawnPoints().front().origin;
+  EXPECT_TRUE(model_->pointOutsideWorld({world.mins.x() - 16, spawn.y(), spawn.z()}));
+  EXPECT_TRUE(model_->pointOutsideWorld({world.maxs.x() + 16, spawn.y(), spawn.z()}));
+  EXPECT_TRUE(model_->pointOutsideWorld(model_->bounds().center() - Vector3f(0, 0, 10000)));
 }
 
 }  // namespace

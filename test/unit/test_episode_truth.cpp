@@ -7,12 +7,16 @@
 // floor points for a reliable floor, and without one nothing is fused or measured.
 #include <gtest/gtest.h>
 
+#include <array>
+
+#include "brush_world.h"
 #include "openarena_data.h"
 #include "valerant/eval/episode_truth.h"
 #include "valerant/slam/oracle_slam.h"
 #include "valerant/world/quake3/quake3_world.h"
 
 using namespace valerant;
+using valerant::test::boxBrush;
 
 TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
   VALERANT_REQUIRE_OPENARENA();
@@ -96,4 +100,106 @@ TEST(EpisodeTruth, PenetrationEventsNameTheCommittedStepAndWhatTheTestsSaw) {
   EXPECT_EQ(events[0].occupied_max, 12);
   EXPECT_DOUBLE_EQ(events[0].min_near_ratio, 4.6);
   EXPECT_TRUE(penetrationEvents({}).empty());
+}
+
+namespace {
+
+// A hand-built world: a floor (top z = 0) over x, y in [-512, 512]; block A at x in
+// [100, 200], |y| <= 50, 128 high; block B at x in [-420, -380], |y| <= 20, 64 high. The
+// world model's bounds are x, y in [-512, 512], z in [-16, 256]. Its BSP tree has one
+// node splitting at x = -256: x >= -256 is leaf 0 (cluster 0, the level), x < -256
+// leaf 1 (cluster -1, the void behind an outer wall).
+quake3::CollisionModel playableBrushWorld() {
+  quake3::PlayableWorld world;
+  world.bounds = Eigen::AlignedBox3f(Eigen::Vector3f(-512, -512, -16), Eigen::Vector3f(512, 512, 256));
+  world.planes = {{Eigen::Vector3f::UnitX(), -256.f}};
+  quake3::BspNode node;
+  node.plane = 0;
+  node.children = {-1, -2};
+  node.mins = node.maxs = Eigen::Vector3i::Zero();  // unused by lookups
+  world.nodes = {node};
+  world.leaf_clusters = {0, -1};
+  return quake3::CollisionModel({boxBrush({-512, -512, -16}, {512, 512, 0}), boxBrush({100, -50, 0}, {200, 50, 128}),
+                                 boxBrush({-420, -20, 0}, {-380, 20, 64})},
+                                world);
+}
+
+// The ground truth of a camera standing on the floor at (x, y), as the engine world
+// marks each frame it renders (Quake3World::renderClean).
+FrameTruth truthAt(const quake3::CameraKinematics& k, double x, double y) {
+  quake3::CameraState s;
+  s.xy = {x, y};
+  FrameTruth t;
+  t.hull_in_solid = k.hullInSolid(s);
+  t.outside_world = k.outsideWorld(s);
+  t.in_solid = k.inSolid(s);
+  return t;
+}
+
+}  // namespace
+
+// The player hull spans |x|, |y| <= 15 around the camera and z in [0, 56] above the
+// floor; its centre is 28 above the floor. Worked out by hand for each pose:
+//   (0, 0)      open floor, centre in leaf 0                  -> neither
+//   (150, 0)    hull x in [135, 165] inside block A           -> in solid
+//   (600, 0)    centre x = 600 beyond the bounds (512)        -> outside the world
+//   (-300, 0)   centre in leaf 1 (no cluster), hull over floor -> outside the world
+//   (-400, 0)   inside block B, and in leaf 1                  -> both
+// A world without a playable extent (brushes only) flags only the hull.
+TEST(EpisodeTruth, PosesInSolidAndOutsideTheWorldArePenetrations) {
+  const quake3::CollisionModel model = playableBrushWorld();
+  const quake3::CameraKinematics k(model, 50, 1024);
+  const std::vector<FrameTruth> frames = {truthAt(k, 0, 0), truthAt(k, 150, 0), truthAt(k, 600, 0),
+                                          truthAt(k, -300, 0), truthAt(k, -400, 0)};
+  const std::vector<std::array<bool, 3>> expected = {
+      // in_solid (the union), hull_in_solid, outside_world
+      {false, false, false}, {true, true, false}, {true, false, true}, {true, false, true}, {true, true, true}};
+  for (size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(frames[i].in_solid, expected[i][0]) << "pose " << i;
+    EXPECT_EQ(frames[i].hull_in_solid, expected[i][1]) << "pose " << i;
+    EXPECT_EQ(frames[i].outside_world, expected[i][2]) << "pose " << i;
+  }
+  EXPECT_EQ(k.hullCentre(quake3::CameraState{}), Eigen::Vector3f(0, 0, 28));
+
+  const PenetrationCounts counts = countPenetrations(frames);
+  EXPECT_EQ(counts.frames, 4);         // every pose but the open one
+  EXPECT_EQ(counts.in_solid, 2);       // blocks A and B
+  EXPECT_EQ(counts.outside_world, 3);  // beyond the bounds, the void leaf, block B's
+  EXPECT_EQ(countPenetrations({}).frames, 0);
+
+  // Without the playable extent only the hull test remains.
+  const quake3::CollisionModel brushes_only(model.brushes());
+  const quake3::CameraKinematics bare(brushes_only, 50, 1024);
+  EXPECT_FALSE(truthAt(bare, 600, 0).in_solid);
+  EXPECT_FALSE(truthAt(bare, -300, 0).in_solid);
+  EXPECT_TRUE(truthAt(bare, -400, 0).in_solid);
+  EXPECT_FALSE(truthAt(bare, -400, 0).outside_world);
+}
+
+// A committed step whose frames penetrate for either reason is one event; its frames
+// are the union, and each reason is counted apart: frames 1-3 of "uw" are in solid,
+// 2-4 outside the world, so 4 penetrating frames from frame 1, 3 and 3 by reason.
+TEST(EpisodeTruth, PenetrationEventsTellTheReasonsApart) {
+  auto frame = [](bool hull, bool outside) {
+    FrameTruth f;
+    f.hull_in_solid = hull;
+    f.outside_world = outside;
+    f.in_solid = hull || outside;
+    return f;
+  };
+  std::vector<StepRecord> history(1);
+  history[0].step = 7;
+  CandidateRecord c;
+  c.verdict.candidate = "uw";
+  c.truth = {frame(false, false), frame(true, false), frame(true, true), frame(true, true), frame(false, true),
+             frame(false, false)};
+  history[0].candidates = {c};
+  history[0].chosen = 0;
+  const std::vector<PenetrationEvent> events = penetrationEvents(history);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].frames, 4);
+  EXPECT_EQ(events[0].frames_in_solid, 3);
+  EXPECT_EQ(events[0].frames_outside_world, 3);
+  EXPECT_EQ(events[0].first_frame, 1);
+  EXPECT_EQ(committedInSolidFrames(history), 4);
 }

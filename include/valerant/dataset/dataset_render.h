@@ -1,8 +1,10 @@
 #pragma once
 // Renders one map's dataset sequences (dataset_sequences.h) with ground truth: moves
 // the camera as the engine world does (camera_kinematics.h) and renders only the
-// frames it keeps. A sequence ends at its first frame whose player hull is inside
-// solid brushes unless `keep_in_solid` (depth there would teach walls from inside).
+// frames it keeps. A sequence ends at its first frame that penetrates the world (the
+// player hull inside solid brushes, or outside the playable world:
+// CameraKinematics::inSolid) unless `keep_in_solid` (depth there would teach walls
+// from inside, or the level's outside).
 #include <functional>
 
 #include "valerant/dataset/dataset_sequences.h"

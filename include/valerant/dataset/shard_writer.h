@@ -28,7 +28,7 @@ struct FrameRecord {
   std::string key;      // the frame's keys (w, jw, l, ...; empty for a start frame)
   Eigen::Vector3d eye_m = Eigen::Vector3d::Zero();  // eye in the BSP frame, metres
   double yaw_deg = 0, pitch_deg = 0;
-  bool in_solid = false;
+  bool in_solid = false;  // the pose penetrates the world (CameraKinematics::inSolid)
 };
 
 struct ShardMeta {

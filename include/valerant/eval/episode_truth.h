@@ -22,7 +22,11 @@ namespace valerant {
 
 struct EpisodeTruth {
   int committed_frames = 0;
-  int penetrating_frames = 0;  // frames of the final trajectory whose player hull is inside solid
+  // Frames of the final trajectory that penetrate the world (FrameTruth::in_solid): the
+  // union of the two reasons below, so at most their sum.
+  int penetrating_frames = 0;
+  int penetrating_frames_in_solid = 0;       // ... whose player hull is inside solid
+  int penetrating_frames_outside_world = 0;  // ... whose hull centre is outside the playable world
   // In-solid frames of committed steps that a rewind later discarded: committed once,
   // so counted, but no longer part of the trajectory (or of penetrating_frames).
   int discarded_penetrating_frames = 0;
@@ -39,21 +43,32 @@ struct EpisodeTruth {
   double alignment_rmse_m = 0;   // residual of the camera centres after alignment (ATE)
   double ate_percent = 0;        // ATE as a share of the path length
   int verdicts = 0;              // candidate evaluations with ground truth
-  int truly_colliding = 0;       // candidates whose frames enter solid
+  int truly_colliding = 0;       // candidates whose frames penetrate (in solid or outside the world)
   int predicted_colliding = 0;   // candidates rejected by a collision test
   int false_rejections = 0;      // predicted but not truly colliding
   int missed_collisions = 0;     // truly colliding but not predicted
 };
 
-// In-solid frames the step committed (0 for a stall).
+// Penetrating frames of a run of frames, with each reason counted on its own.
+struct PenetrationCounts {
+  int frames = 0;         // in_solid: the union of the two below
+  int in_solid = 0;       // hull_in_solid
+  int outside_world = 0;  // outside_world
+};
+PenetrationCounts countPenetrations(const std::vector<FrameTruth>& truth);
+
+// In-solid (penetrating) frames the step committed (0 for a stall).
 int stepInSolidFrames(const StepRecord& step);
 
-// A committed step that put the player hull inside solid, with what its collision tests
-// saw: the figures one needs to tell why the tests let it through.
+// A committed step that penetrated the world (the player hull inside solid, or its
+// centre outside the playable world), with what its collision tests saw: the figures
+// one needs to tell why the tests let it through.
 struct PenetrationEvent {
   int step = 0;
   std::string candidate;      // the committed candidate, e.g. "jw" or a prefix "jw@20"
-  int frames = 0;             // its in-solid frames
+  int frames = 0;             // its in-solid (penetrating) frames
+  int frames_in_solid = 0;    // ... whose player hull is inside solid
+  int frames_outside_world = 0;  // ... whose hull centre is outside the playable world
   int first_frame = 0;        // 0-based index of the first one within the step
   int occupied_max = 0;       // most points in the body cylinder at one sample (eq. 6)
   double min_near_ratio = 0;  // smallest central depth / camera height (eq. 7)

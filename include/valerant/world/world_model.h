@@ -22,8 +22,13 @@ using RolloutId = uint64_t;
 struct FrameTruth {
   Eigen::Isometry3d camera_to_world;  // optical frame in the BSP frame (game units)
   cv::Mat depth_m;                    // CV_32F metres along the optical axis, NaN = sky
-  bool in_solid = false;              // player hull overlaps solid brushes
+  // The pose penetrates the world: hull_in_solid || outside_world. Everything that
+  // counts or avoids penetrations reads this flag; the two below tell the reasons apart.
+  bool in_solid = false;
   double floor_z = 0;                 // feet height the eye follows (game units)
+  bool hull_in_solid = false;         // the player hull overlaps solid brushes
+  bool outside_world = false;         // the hull's centre is outside the playable world
+                                      // (walked through an outer wall into the void)
 };
 
 struct Rollout {

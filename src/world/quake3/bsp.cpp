@@ -112,6 +112,46 @@ void checkRange(int index, int count, const std::vector<T>& target, const std::s
                                  std::to_string(target.size()) + ")");
 }
 
+// The node tree must be a tree: every walk from the root (node 0) reaches a leaf in
+// finitely many steps, or leafAt() loops forever. A depth-first walk that meets each
+// node once (O(nodes)) rejects a child that leads back to one of its ancestors (a
+// cycle) and a node reached a second time from another parent (a shared subtree,
+// which a compiled tree never has). Nodes the root never reaches are left alone: no
+// lookup visits them. Child indices must already be in range.
+void validateNodeTree(const BspMap& m, const std::string& src) {
+  enum : uint8_t { kUnseen, kOnPath, kDone };
+  std::vector<uint8_t> state(m.nodes.size(), kUnseen);
+  std::vector<int> parent(m.nodes.size(), -1);
+  struct Frame {
+    int node;
+    int next_child;
+  };
+  std::vector<Frame> path{{0, 0}};
+  state[0] = kOnPath;
+  while (!path.empty()) {
+    Frame& top = path.back();
+    if (top.next_child == 2) {
+      state[top.node] = kDone;
+      path.pop_back();
+      continue;
+    }
+    const int side = top.next_child++;
+    const int child = m.nodes[top.node].children[side];
+    if (child < 0) continue;  // a leaf
+    const std::string edge =
+        "child " + std::to_string(side) + " of node " + std::to_string(top.node) + " is node " + std::to_string(child);
+    if (state[child] == kOnPath)
+      throw InputError(src, "BSP node tree has a cycle: " + edge + ", one of its own ancestors" +
+                                (child == top.node ? " (itself)" : ""));
+    if (state[child] == kDone)
+      throw InputError(src, "BSP node tree is not a tree: " + edge + ", already reached from node " +
+                                std::to_string(parent[child]));
+    state[child] = kOnPath;
+    parent[child] = top.node;
+    path.push_back({child, 0});  // invalidates `top`
+  }
+}
+
 void validate(const BspMap& m, const std::string& src) {
   if (m.models.empty()) throw InputError(src, "no world model");
   if (m.nodes.empty() || m.leafs.empty()) throw InputError(src, "no BSP tree (nodes or leafs lump empty)");
@@ -122,6 +162,7 @@ void validate(const BspMap& m, const std::string& src) {
       else checkRange(-(c + 1), 1, m.leafs, "node leaf", src);
     }
   }
+  validateNodeTree(m, src);
   for (const auto& l : m.leafs) {
     checkRange(l.first_leaf_face, l.num_leaf_faces, m.leaf_faces, "leaf face", src);
     checkRange(l.first_leaf_brush, l.num_leaf_brushes, m.leaf_brushes, "leaf brush", src);
@@ -182,7 +223,7 @@ std::vector<SpawnPoint> BspMap::spawnPoints() const {
   return out;
 }
 
-int BspMap::leafAt(const Eigen::Vector3f& p) const {
+int bspLeafAt(const std::vector<BspNode>& nodes, const std::vector<BspPlane>& planes, const Eigen::Vector3f& p) {
   int index = 0;
   while (index >= 0) {
     const BspNode& node = nodes[index];
@@ -191,6 +232,8 @@ int BspMap::leafAt(const Eigen::Vector3f& p) const {
   }
   return -(index + 1);
 }
+
+int BspMap::leafAt(const Eigen::Vector3f& p) const { return bspLeafAt(nodes, planes, p); }
 
 BspMap parseBsp(const std::vector<uint8_t>& bytes, const std::string& source) {
   LumpReader r(bytes, source);

@@ -9,6 +9,11 @@ namespace valerant::quake3 {
 namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 constexpr double kMaxPitchDeg = 85.0;  // never look straight up or down: yaw stays defined
+
+// The player origin of a camera: hull.mins.z() below it are the feet.
+Eigen::Vector3f playerOrigin(const CameraState& s, const PlayerHull& hull) {
+  return {static_cast<float>(s.xy.x()), static_cast<float>(s.xy.y()), static_cast<float>(s.floor_z - hull.mins.z())};
+}
 }  // namespace
 
 CameraKinematics::CameraKinematics(const CollisionModel& collision, double eye_height,
@@ -75,10 +80,14 @@ Eigen::Isometry3d CameraKinematics::cameraToWorld(const CameraState& s) const {
   return t;
 }
 
-bool CameraKinematics::inSolid(const CameraState& s) const {
-  const Eigen::Vector3f origin(static_cast<float>(s.xy.x()), static_cast<float>(s.xy.y()),
-                               static_cast<float>(s.floor_z - hull_.mins.z()));
-  return collision_.boxInSolid(origin, hull_.mins, hull_.maxs);
+bool CameraKinematics::hullInSolid(const CameraState& s) const {
+  return collision_.boxInSolid(playerOrigin(s, hull_), hull_.mins, hull_.maxs);
 }
+
+Eigen::Vector3f CameraKinematics::hullCentre(const CameraState& s) const {
+  return playerOrigin(s, hull_) + (hull_.mins + hull_.maxs) / 2;
+}
+
+bool CameraKinematics::outsideWorld(const CameraState& s) const { return collision_.pointOutsideWorld(hullCentre(s)); }
 
 }  // namespace valerant::quake3

@@ -208,10 +208,26 @@ CollisionModel CollisionModel::fromBsp(const BspMap& map, int contents_mask) {
     brushes.push_back(std::move(convex));
   }
   addPatchFacets(map, contents_mask, brushes);
-  return CollisionModel(std::move(brushes));
+  return CollisionModel(std::move(brushes), PlayableWorld::fromBsp(map));
 }
 
-CollisionModel::CollisionModel(std::vector<ConvexBrush> brushes) {
+PlayableWorld PlayableWorld::fromBsp(const BspMap& map) {
+  if (map.models.empty()) throw InputError(map.name, "no world model");
+  PlayableWorld w;
+  w.bounds = Eigen::AlignedBox3f(map.models[0].mins, map.models[0].maxs);
+  w.nodes = map.nodes;
+  w.planes = map.planes;
+  for (const auto& leaf : map.leafs) w.leaf_clusters.push_back(leaf.cluster);
+  return w;
+}
+
+bool PlayableWorld::contains(const Eigen::Vector3f& p) const {
+  if (!bounds.contains(p)) return false;
+  return nodes.empty() || leaf_clusters[bspLeafAt(nodes, planes, p)] >= 0;
+}
+
+CollisionModel::CollisionModel(std::vector<ConvexBrush> brushes, std::optional<PlayableWorld> world)
+    : world_(std::move(world)) {
   for (auto& brush : brushes)
     if (completeBrush(brush)) brushes_.push_back(std::move(brush));
   for (const auto& brush : brushes_) bounds_.extend(brush.bounds);

@@ -1,9 +1,11 @@
 #include "valerant/world/quake3/pk3_archive.h"
 
 #include <zip.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -11,6 +13,21 @@
 
 namespace valerant::quake3 {
 namespace {
+
+std::string hex32(uint32_t v) {
+  char text[11];
+  std::snprintf(text, sizeof text, "0x%08x", v);
+  return text;
+}
+
+// zlib's CRC-32 (the zip format's) of `bytes`, in pieces that fit zlib's uInt.
+uint32_t crc32Of(const std::vector<uint8_t>& bytes) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  constexpr size_t kPiece = size_t{1} << 30;
+  for (size_t at = 0; at < bytes.size(); at += kPiece)
+    crc = crc32(crc, bytes.data() + at, static_cast<uInt>(std::min(kPiece, bytes.size() - at)));
+  return static_cast<uint32_t>(crc);
+}
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -88,13 +105,30 @@ std::optional<std::vector<uint8_t>> Pk3FileSystem::read(const std::string& path)
   zip_stat_t st;
   if (zip_stat_index(archive.zip, it->second.index, 0, &st) != 0 || !(st.valid & ZIP_STAT_SIZE))
     throw InputError(archive.path + ":" + path, "cannot stat archive entry");
+  const std::string entry = archive.path + ":" + ((st.valid & ZIP_STAT_NAME) && st.name ? st.name : path);
   zip_file_t* file = zip_fopen_index(archive.zip, it->second.index, 0);
-  if (!file) throw InputError(archive.path + ":" + path, "cannot open archive entry (corrupt pk3?)");
+  if (!file) throw InputError(entry, "cannot open archive entry (corrupt pk3?)");
   std::vector<uint8_t> bytes(st.size);
   const zip_int64_t got = bytes.empty() ? 0 : zip_fread(file, bytes.data(), bytes.size());
+  // Read on past the recorded size: libzip checks an entry's CRC only when a read
+  // reaches the end of its data, which a read of exactly the entry size never does.
+  uint8_t past_end;
+  const zip_int64_t more = got < 0 ? 0 : zip_fread(file, &past_end, 1);
+  const int error = got < 0 || more < 0 ? zip_error_code_zip(zip_file_get_error(file)) : ZIP_ER_OK;
+  const std::string why = error == ZIP_ER_OK ? "" : std::string(": ") + zip_file_strerror(file);
   zip_fclose(file);
-  if (got < 0 || static_cast<zip_uint64_t>(got) != st.size)
-    throw InputError(archive.path + ":" + path, "truncated or corrupt archive entry");
+  const bool complete = got >= 0 && static_cast<zip_uint64_t>(got) == st.size;
+  // The CRC-32 of the bytes read against the one the archive records, whether or not
+  // libzip noticed the mismatch on the way.
+  const bool crc_known = complete && (st.valid & ZIP_STAT_CRC);
+  const uint32_t crc = crc_known ? crc32Of(bytes) : 0;
+  if (error == ZIP_ER_CRC || (crc_known && crc != st.crc))
+    throw InputError(entry, "CRC-32 mismatch" +
+                                (crc_known ? ": the archive records " + hex32(st.crc) + ", the data read has " + hex32(crc)
+                                           : std::string()) +
+                                " (damaged pk3)");
+  if (error != ZIP_ER_OK || !complete) throw InputError(entry, "truncated or corrupt archive entry" + why);
+  if (more > 0) throw InputError(entry, "archive entry longer than its recorded size " + std::to_string(st.size));
   return bytes;
 }
 

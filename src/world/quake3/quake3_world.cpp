@@ -46,7 +46,9 @@ std::pair<cv::Mat, FrameTruth> Quake3World::renderClean(const CameraState& camer
   truth.camera_to_world = kinematics_.cameraToWorld(camera);
   const RenderedView view = renderer_.render(truth.camera_to_world.cast<float>());
   truth.depth_m = view.depth / kUnitsPerMetre;
-  truth.in_solid = kinematics_.inSolid(camera);
+  truth.hull_in_solid = kinematics_.hullInSolid(camera);
+  truth.outside_world = kinematics_.outsideWorld(camera);
+  truth.in_solid = truth.hull_in_solid || truth.outside_world;
   truth.floor_z = camera.floor_z;
   return {view.rgb, truth};
 }

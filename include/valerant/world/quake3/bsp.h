@@ -128,8 +128,14 @@ struct BspMap {
   int leafAt(const Eigen::Vector3f& p) const;
 };
 
+// Index of the leaf containing `p` in the node tree `nodes` (root: node 0) over
+// `planes`; the tree must be one parseBsp accepted.
+int bspLeafAt(const std::vector<BspNode>& nodes, const std::vector<BspPlane>& planes, const Eigen::Vector3f& p);
+
 // Parses a whole .bsp file image. `source` names it in errors. Throws InputError on
-// a wrong magic/version, a lump outside the file, or inconsistent indices.
+// a wrong magic/version, a lump outside the file, inconsistent indices, or a node tree
+// that is no tree (a cycle, or a node reached from two parents), where leafAt() would
+// never reach a leaf.
 BspMap parseBsp(const std::vector<uint8_t>& bytes, const std::string& source);
 
 }  // namespace valerant::quake3

@@ -35,8 +35,16 @@ class CameraKinematics {
   Eigen::Vector3d eye(const CameraState& s) const;
   // Optical frame (x right, y down, z forward) in the BSP frame.
   Eigen::Isometry3d cameraToWorld(const CameraState& s) const;
+  // The pose penetrates the world: hullInSolid() or outsideWorld(). Every in-solid
+  // ground-truth flag is this one.
+  bool inSolid(const CameraState& s) const { return hullInSolid(s) || outsideWorld(s); }
   // The player hull at this camera overlaps solid brushes.
-  bool inSolid(const CameraState& s) const;
+  bool hullInSolid(const CameraState& s) const;
+  // The centre of the player hull lies outside the playable world (a BSP leaf without a
+  // cluster, or outside the world model's bounds): walked through an outer wall.
+  bool outsideWorld(const CameraState& s) const;
+  // Centre of the player hull's box at this camera.
+  Eigen::Vector3f hullCentre(const CameraState& s) const;
 
  private:
   std::optional<double> floorUnder(const Eigen::Vector2d& xy, double probe_feet_z) const;

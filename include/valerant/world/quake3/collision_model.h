@@ -19,18 +19,37 @@ struct ConvexBrush {
   int contents = 0;
 };
 
+// Where the playable world ends. A point is outside it when it lies outside the world
+// model's bounds (BSP model 0) or, with the BSP tree, in a leaf without a cluster: the
+// void beyond the level's sealed hull (or the inside of a structural brush), which the
+// game never shows. A camera that walked through an outer wall is there.
+struct PlayableWorld {
+  Eigen::AlignedBox3f bounds;      // the world model's bounds (inclusive)
+  std::vector<BspNode> nodes;      // the world BSP tree (one parseBsp accepts: no cycle);
+                                   // empty: the bounds alone decide
+  std::vector<BspPlane> planes;
+  std::vector<int> leaf_clusters;  // per leaf
+
+  static PlayableWorld fromBsp(const BspMap& map);
+  bool contains(const Eigen::Vector3f& p) const;
+};
+
 class CollisionModel {
  public:
   // Brushes and patches of the world model (model 0) whose shader contents match
-  // `contents_mask`.
+  // `contents_mask`, and the playable world of the map.
   static CollisionModel fromBsp(const BspMap& map,
                                 int contents_mask = kContentsSolid | kContentsPlayerClip);
-  explicit CollisionModel(std::vector<ConvexBrush> brushes);
+  // `world`: where the playable world ends; without one every point is inside it.
+  explicit CollisionModel(std::vector<ConvexBrush> brushes, std::optional<PlayableWorld> world = std::nullopt);
 
   // True when the box [center+mins, center+maxs] overlaps the interior of a brush.
   bool boxInSolid(const Eigen::Vector3f& center, const Eigen::Vector3f& mins,
                   const Eigen::Vector3f& maxs) const;
   bool pointInSolid(const Eigen::Vector3f& p) const;
+  // True when `p` lies outside the playable world (see PlayableWorld); never without one.
+  bool pointOutsideWorld(const Eigen::Vector3f& p) const { return world_ && !world_->contains(p); }
+  const std::optional<PlayableWorld>& playableWorld() const { return world_; }
 
   // Sweeps the box straight down from `start` by at most `max_drop`; returns the z
   // of the box centre where it first rests on a solid (its bottom then touches the
@@ -45,6 +64,7 @@ class CollisionModel {
  private:
   std::vector<ConvexBrush> brushes_;
   Eigen::AlignedBox3f bounds_;
+  std::optional<PlayableWorld> world_;
   // Uniform XY bucket grid over brush bounds so queries test only nearby brushes.
   float bucket_size_ = 128.f;
   Eigen::Vector2f grid_origin_;
