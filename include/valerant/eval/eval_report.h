@@ -38,6 +38,9 @@ struct ConfigSummary {
   int runs = 0, failed = 0;
   double observed_percent = -1, observed_m2 = -1, observed_m2_per_clean_step = -1;
   double penetrations = -1, rewinds = -1, false_rejections = -1, missed_collisions = -1;
+  // Of the penetrations, the frames whose hull centre was outside the playable world
+  // (the rest, and some of these, had the hull inside solid: episode_truth.h).
+  double penetrations_outside_world = -1;
   // In-solid frames of committed steps that a rewind later discarded.
   double discarded_penetrations = -1;
   double ate_percent = -1, accuracy_median_m = -1, completeness_percent = -1, wall_seconds = -1,
