@@ -10,6 +10,7 @@
 // graph's configuration and exits (launch files mark it required, so the graph ends).
 // Private parameters: output_dir, overwrite, auto_start, connect_timeout_s,
 // rollout_timeout_s, result_timeout_s, publish_rate_hz, spinner_threads.
+#include <iostream>
 #include <actionlib/server/simple_action_server.h>
 #include <filesystem>
 #include <geometry_msgs/PoseStamped.h>
@@ -253,7 +254,7 @@ int main(int argc, char** argv) {
     }
     ::ros::waitForShutdown();
   } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("explorer: " << e.what());
+    std::cerr << "explorer: error: " << e.what() << std::endl;  // see ros/node_main.h
     return 1;
   }
   return 0;

@@ -1,6 +1,7 @@
 // policy_arbiter: paper eq. 2 (or a baseline, policy.kind) over one step's judged
 // candidates, as the service ~select_branch; it runs selectBranch() with the graph's
 // policy config, exactly what the in-process loop calls.
+#include <iostream>
 #include <ros/ros.h>
 #include <valerant/SelectBranch.h>
 
@@ -36,7 +37,7 @@ int main(int argc, char** argv) {
     ROS_INFO_STREAM("policy_arbiter: policy " << config.policy.kind);
     ::ros::spin();
   } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("policy_arbiter: " << e.what());
+    std::cerr << "policy_arbiter: error: " << e.what() << std::endl;  // see ros/node_main.h
     return 1;
   }
   return 0;

@@ -11,6 +11,7 @@
 //                    foot, z up the anchor floor normal, x along the start heading; rviz
 //                    views any SLAM frame (the visual SLAM's is arbitrary) from above in it
 // A missing or truncated run directory is a fatal error that names the file.
+#include <iostream>
 #include <geometry_msgs/TransformStamped.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
@@ -96,7 +97,7 @@ int main(int argc, char** argv) {
                                       << run.trajectory.size() << " poses");
     ::ros::spin();
   } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("run_publisher: " << e.what());
+    std::cerr << "run_publisher: error: " << e.what() << std::endl;  // see ros/node_main.h
     return 1;
   }
   return 0;

@@ -75,7 +75,7 @@ def complete_report(folder):
 class Faults(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        for name in ("valerant_explore", "valerant_export", "valerant_eval"):
+        for name in ("valerant_explore", "valerant_export", "valerant_eval", "policy_arbiter"):
             if not os.access(tool(name), os.X_OK):
                 raise unittest.SkipTest(tool(name) + " is not built")
         cls.scratch = tempfile.mkdtemp(prefix="valerant_faults_")
@@ -374,6 +374,25 @@ class Faults(unittest.TestCase):
         self.assertEqual(status, 1, err)
         self.assertIn("crc_dm1.bsp", err)
         self.assertIn("crc", err.lower())
+
+    def test_bad_launch_parameter_is_an_error_naming_it(self):
+        # The graph's ROS parameters are overrides through the same strict loader as the
+        # tools' flags: a mistyped `policy:=` stops the node with the parameter named.
+        port = str(11000 + os.getpid() % 1000)
+        env = {"ROS_MASTER_URI": "http://localhost:" + port}
+        master = subprocess.Popen(["roscore", "-p", port], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                  env=dict(os.environ, **env), start_new_session=True)
+        try:
+            deadline = time.time() + 60
+            while run(["rosparam", "set", "/valerant_config/policy", "bogus"], env=env, timeout=30)[0] != 0:
+                self.assertLess(time.time(), deadline, "roscore did not start")
+                time.sleep(1)
+            status, _, err = run([tool("policy_arbiter")], env=env, timeout=60)
+            self.assertEqual(status, 1, err)
+            self.assertIn("parameter /valerant_config/policy (bogus): policy.kind: 'bogus' is not one of", err)
+        finally:
+            os.killpg(master.pid, signal.SIGINT)
+            master.wait(timeout=60)
 
 
 def main():
