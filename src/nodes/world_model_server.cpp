@@ -35,7 +35,7 @@ using valerant::bridge::guarded;
 
 namespace {
 
-constexpr double kGameUnitsPerMetre = 32;  // Quake III convention (DESIGN.md section 6)
+constexpr double kGameUnitsPerMetre = 32;  // Quake III convention
 
 // What the server keeps of the committed state for digests and viewers.
 struct Committed {

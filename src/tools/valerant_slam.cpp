@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kUnitsPerMetre = 32.0;  // DESIGN.md section 6
+constexpr double kUnitsPerMetre = 32.0;  // Quake III convention
 
 using Clock = tools::ThreadClock;
 

@@ -1,6 +1,6 @@
 #pragma once
-// States saved under the synchronised checkpoint ids of the world model (DESIGN.md
-// section 1, step 1), so the world, every SLAM branch and the floor estimator always
+// States saved under the synchronised checkpoint ids of the world model (the first
+// thing each exploration step does), so the world, every SLAM branch and the floor estimator always
 // return to the same moment. Unknown, dropped or reused ids are InputErrors that name
 // the id: a caller with a stale id gets a clear error, never a silent wrong state.
 #include <map>

@@ -1,5 +1,5 @@
 #pragma once
-// The exploration loop (paper section 3.2, DESIGN.md section 1), without ROS. Each
+// The exploration loop (paper section 3.2), without ROS. Each
 // step: a synchronised checkpoint of world and branch pipeline (SLAM, floor); five
 // candidate rollouts from the committed state, each reconstructed and judged by the
 // pipeline; coverage and progress on the episode's grid; the argmax of eq. 2 over

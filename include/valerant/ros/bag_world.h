@@ -1,5 +1,5 @@
 #pragma once
-// The `bag` world model backend (DESIGN.md section 3): replays the rollouts a graph
+// The `bag` world model backend: replays the rollouts a graph
 // recorded (record.launch) keyed by (checkpoint id, candidate), so the downstream
 // pipeline re-runs bit for bit without the engine. Checkpoint ids are issued exactly as
 // the recording world issued them (1, 2, ...), so a replay that makes the same

@@ -1,5 +1,5 @@
 #pragma once
-// The SLAM interface every branch uses (DESIGN.md section 3): RGB frames in, camera
+// The SLAM interface every branch uses: RGB frames in, camera
 // poses, per-frame raw depth with confidence, and keyframe point clouds out, all in the
 // frame of the committed map. Branching is cheap: branch() starts an independent SLAM
 // from the current state, sharing the immutable keyframes and points already made;

@@ -1,5 +1,5 @@
 #pragma once
-// The world model as the explorer sees it (DESIGN.md section 3): a frozen
+// The world model as the explorer sees it: a frozen
 // action-conditioned video generator with checkpoints. A rollout imagines frames from
 // the committed state without changing it; commit() makes one rollout the new
 // committed state. Backends: quake3 (engine), bag (recorded rollouts).

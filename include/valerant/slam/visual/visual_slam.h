@@ -1,5 +1,5 @@
 #pragma once
-// The `visual` SLAM backend (DESIGN.md section 3): monocular RGB only, it never reads
+// The `visual` SLAM backend: monocular RGB only, it never reads
 // SlamInput::truth. Per frame:
 //   1. KLT feature tracks (feature_tracker.h).
 //   2. With a map: RANSAC PnP against the tracked map points (pnp_tracker.h). Without
