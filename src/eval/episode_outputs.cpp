@@ -72,6 +72,29 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
 
 }  // namespace
 
+nlohmann::json runReportHeader(const std::string& tool, const Config& config) {
+  return {{"tool", tool},
+          {"map", config.world.map},
+          {"spawn", config.world.spawn},
+          {"slam", config.slam.backend},
+          {"policy", config.policy.kind},
+          {"seed", config.world.seed},
+          {"budget", config.policy.budget_steps},
+          {"rf", config.floor.enabled},
+          {"col_pc", config.collision.pointcloud_enabled},
+          {"col_depth", config.collision.depth_enabled},
+          {"dp", config.dead_pocket.enabled}};
+}
+
+void snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
+                       const nlohmann::json& header) {
+  if (step.chosen < 0 && !step.rewind) return;  // a stall leaves the map as it was
+  nlohmann::json report = header;
+  report["steps"] = step.step;
+  report["committed_steps"] = episode.committedSteps();
+  saveRunSnapshot(out, runMapOf(episode), report);
+}
+
 void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, const std::string& out, bool overwrite,
                          nlohmann::json& report) {
   const Config& config = episode.config();

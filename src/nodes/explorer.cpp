@@ -117,20 +117,11 @@ class Explorer {
       Episode episode(world_, pipeline_, arbiter_, config);
       publishMap(episode, 0);
       AppendOnlyLog decisions(out + "/decisions.jsonl", false);
-      nlohmann::json report = {{"tool", "explorer"}, {"map", config.world.map}, {"spawn", config.world.spawn},
-                               {"slam", config.slam.backend}, {"policy", config.policy.kind},
-                               {"seed", config.world.seed}, {"budget", config.policy.budget_steps},
-                               {"rf", config.floor.enabled}, {"col_pc", config.collision.pointcloud_enabled},
-                               {"col_depth", config.collision.depth_enabled}, {"dp", config.dead_pocket.enabled}};
+      nlohmann::json report = runReportHeader("explorer", config);
       while (!episode.finished() && !stop()) {
         const StepRecord r = episode.step();
         decisions.writeLine(toJson(r).dump());
-        if (r.chosen >= 0 || r.rewind) {
-          nlohmann::json snapshot = report;
-          snapshot["steps"] = r.step;
-          snapshot["committed_steps"] = episode.committedSteps();
-          saveRunSnapshot(out, runMapOf(episode), snapshot);
-        }
+        snapshotAfterStep(out, episode, r, report);
         publishStep(episode, r);
         ROS_INFO_STREAM("explorer: step " << r.step << ": "
                                           << (r.chosen >= 0 ? r.candidates[r.chosen].verdict.candidate : "stall")

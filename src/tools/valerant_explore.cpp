@@ -104,11 +104,7 @@ int main(int argc, char** argv) {
 
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
-    nlohmann::json report = {{"tool", "valerant_explore"}, {"map", config.world.map}, {"spawn", config.world.spawn},
-                             {"slam", config.slam.backend}, {"policy", config.policy.kind}, {"seed", config.world.seed},
-                             {"budget", config.policy.budget_steps}, {"rf", config.floor.enabled},
-                             {"col_pc", config.collision.pointcloud_enabled},
-                             {"col_depth", config.collision.depth_enabled}, {"dp", config.dead_pocket.enabled}};
+    nlohmann::json report = runReportHeader("valerant_explore", config);
     AppendOnlyLog decisions(out + "/decisions.jsonl", start == RunStart::kResume);
     episode.runUntilDone(
         [&](const StepRecord& r) {
@@ -119,12 +115,7 @@ int main(int argc, char** argv) {
           } else {
             decisions.writeLine(decision.dump());
           }
-          if (r.chosen >= 0 || r.rewind) {
-            nlohmann::json snapshot = report;
-            snapshot["steps"] = r.step;
-            snapshot["committed_steps"] = episode.committedSteps();
-            saveRunSnapshot(out, runMapOf(episode), snapshot);
-          }
+          snapshotAfterStep(out, episode, r, report);
           std::cerr << "step " << r.step << ": "
                     << (r.chosen >= 0 ? r.candidates[r.chosen].verdict.candidate : std::string("stall"))
                     << (r.rewind ? " + rewind" : "") << (index < recorded.size() ? " (as recorded)" : "") << " ("

@@ -17,6 +17,16 @@
 
 namespace valerant {
 
+// The fields every run's report.json starts with: the tool that ran it and the run's
+// map, spawn, SLAM, policy, seed, budget and switches.
+nlohmann::json runReportHeader(const std::string& tool, const Config& config);
+
+// After a step that changed the map (a commit or a rewind), the map of the committed
+// steps into `out`/snapshot (run_map.h saveRunSnapshot), its report made of `header`
+// and the step counts.
+void snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
+                       const nlohmann::json& header);
+
 // Writes every output but report.json and adds files, statistics and ground truth to
 // `report`. `map`: the engine map the episode ran on (null: no ground-truth figures).
 void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, const std::string& out, bool overwrite,
