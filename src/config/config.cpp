@@ -11,6 +11,7 @@
 
 #include "valerant/common/error.h"
 #include "valerant/common/joined.h"
+#include "valerant/config/package_dir.h"
 
 namespace valerant {
 namespace {
@@ -357,12 +358,7 @@ Config parseConfig(const std::string& yaml_text, const std::string& source) {
 
 std::string defaultConfigPath() {
   if (const char* env = std::getenv("VALERANT_CONFIG"); env && *env) return env;
-  return sourceTreePath("config/valerant.yaml");
-}
-
-std::string sourceTreePath(const std::string& path) {
-  if (std::filesystem::path(path).is_absolute()) return path;
-  return (std::filesystem::path(VALERANT_SOURCE_DIR) / path).string();
+  return packageFilePath("config/valerant.yaml");
 }
 
 }  // namespace valerant

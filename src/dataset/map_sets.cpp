@@ -6,6 +6,7 @@
 #include <set>
 
 #include "valerant/common/error.h"
+#include "valerant/config/package_dir.h"
 
 namespace valerant::dataset {
 
@@ -42,6 +43,6 @@ MapSets loadMapSets(const std::string& path) {
   return sets;
 }
 
-std::string defaultMapSetsPath() { return std::string(VALERANT_SOURCE_DIR) + "/config/map_sets.yaml"; }
+std::string defaultMapSetsPath() { return packageFilePath("config/map_sets.yaml"); }
 
 }  // namespace valerant::dataset

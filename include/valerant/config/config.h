@@ -145,7 +145,7 @@ struct SlamConfig {
   int cloud_stride_px = 4;         // oracle keyframe clouds keep every N-th pixel per axis
   double oracle_confidence = 10.0; // oracle: constant confidence, above the 4.0 cut
   std::string depth_prior = "none";  // none | learned (depth_prior.h)
-  std::string depth_prior_model = "models/depth_prior.onnx";  // relative: to the source tree
+  std::string depth_prior_model = "models/depth_prior.onnx";  // relative: to the package folder
   int depth_prior_width = 128;     // the net's input size: OpenCV 4.6 cannot read it from the file
   int depth_prior_height = 96;
 };
@@ -194,9 +194,7 @@ class ConfigDocument {
 Config loadConfig(const std::string& path);
 // ConfigDocument::fromText(yaml_text, source).parse().
 Config parseConfig(const std::string& yaml_text, const std::string& source);
-// config/valerant.yaml of the source tree (VALERANT_CONFIG overrides).
+// config/valerant.yaml of the package folder (package_dir.h; VALERANT_CONFIG overrides).
 std::string defaultConfigPath();
-// `path` if absolute, else that path inside the package source tree.
-std::string sourceTreePath(const std::string& path);
 
 }  // namespace valerant

@@ -16,6 +16,7 @@ struct MapSets {
 // Throws InputError naming the file and key for a missing list, a repeated map, or a
 // map in both tuning and held-out lists.
 MapSets loadMapSets(const std::string& path);
+// config/map_sets.yaml of the package folder (package_dir.h).
 std::string defaultMapSetsPath();
 
 }  // namespace valerant::dataset

@@ -1,6 +1,6 @@
 #pragma once
 // Builds the depth prior that slam.depth_prior names: nullptr for "none", the ONNX
-// model at slam.depth_prior_model (relative to the source tree) for "learned".
+// model at slam.depth_prior_model (relative to the package folder) for "learned".
 // InputError for another value or a model that does not load (depth_prior.h).
 #include <memory>
 

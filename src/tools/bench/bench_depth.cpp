@@ -19,6 +19,7 @@
 
 #include "../cli_args.h"
 #include "bench.h"
+#include "valerant/config/package_dir.h"
 #include "valerant/slam/depth_prior.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/quake3/quake3_world.h"
@@ -111,9 +112,9 @@ nlohmann::json benchDepth(int argc, char** argv) {
   const std::vector<std::string> maps = args.list("--maps", config.world.map);
   const int spawns = args.integer("--spawns", 2);
   if (spawns < 1) throw InputError("--spawns", "must be >= 1");
-  // --model is relative to the working directory, the configured model to the source tree.
+  // --model is relative to the working directory, the configured model to the package folder.
   const std::string model = args.has("--model") ? std::filesystem::absolute(args.get("--model")).string()
-                                                : sourceTreePath(config.slam.depth_prior_model);
+                                                : packageFilePath(config.slam.depth_prior_model);
   std::vector<ActionSequence> sequences;  // validated before any map is loaded
   for (const char* c : {"uw", "jw", "lw", "jq", "lq"}) sequences.push_back(makeActionSequence(c, config));
   cv::setNumThreads(1);
