@@ -41,7 +41,7 @@ def cached_install_prefix(build):
 def sourced_environment(prefix, home):
     """The environment after `source PREFIX/setup.bash`, started from a bare one."""
     bare = {"HOME": home, "PATH": "/usr/bin:/bin", "LANG": "C.UTF-8"}
-    done = subprocess.run(["bash", "-c", 'source "$0/setup.bash" && env -0', prefix], env=bare,
+    done = subprocess.run(["bash", "-c", 'source "$0/setup.bash" && env -0', prefix], env=bare, cwd=home,
                           capture_output=True, check=True, timeout=TIMEOUT)
     return dict(entry.split("=", 1) for entry in done.stdout.decode().split("\0") if "=" in entry)
 
@@ -67,8 +67,8 @@ class InstallSpace(unittest.TestCase):
         shutil.rmtree(cls.scratch, ignore_errors=True)
 
     def run_installed(self, args, timeout=TIMEOUT, env=None):
-        done = subprocess.run(args, cwd=self.work, env=dict(self.env, **(env or {})), capture_output=True, text=True,
-                              timeout=timeout)
+        done = subprocess.run(args, cwd=self.work, env=dict(self.env, PWD=self.work, **(env or {})),
+                              capture_output=True, text=True, timeout=timeout)
         return done.returncode, done.stdout, done.stderr
 
     def test_environment_knows_nothing_of_the_source_tree_or_build(self):
