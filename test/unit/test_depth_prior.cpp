@@ -162,7 +162,7 @@ TEST(DepthPriorConfig, UnknownValueIsAnErrorNamingTheKey) {
   }
 }
 
-TEST(DepthPriorConfig, LearnedLoadsTheModelRelativeToTheSourceTree) {
+TEST(DepthPriorConfig, LearnedLoadsTheModelRelativeToThePackageFolder) {
   const Config c = parseConfig(
       "extends: " + std::string(VALERANT_SOURCE_DIR) +
           "/config/valerant.yaml\nslam:\n  depth_prior: learned\n  depth_prior_model: test/data/depth_prior_linear.onnx\n", "test.yaml");
