@@ -6,7 +6,9 @@
 # background and waits as long as a call may, `collect` waits for the end and copies
 # the results to $OUT/run.
 #   learn/gpu_train.sh stage             copy the carried $DATA/train_*/*.zip and $DATA/eval/*.zip to $VDATA
-#   learn/gpu_train.sh start MINUTES     stage, then train for MINUTES (in the background)
+#   learn/gpu_train.sh start MINUTES [OPTION...]
+#                                        stage, then train for MINUTES (in the background);
+#                                        OPTIONs go to train_depth.py (e.g. --floor-prior)
 #   learn/gpu_train.sh collect           wait for the training, copy its files to $OUT/run
 # DATA (default data) may name several folders, space-separated, relative to the folder
 # above learn/: each call may carry other parts (a folder train_X of one call and one of
@@ -41,7 +43,7 @@ python3 -c 'import torch, cv2, onnx; print("torch", torch.__version__, "cuda", t
 rm -rf "$RUN" "$RUN.done"
 # setsid: the training must outlive this call's process group.
 setsid bash -c 'PYTHONUNBUFFERED=1 python3 learn/train_depth.py --train "$2/train/*.zip" --val "$2/eval/*.zip" --out "$1" \
-   --minutes "$0" --batch 256 --workers 16 --seed 0 --device cuda > "$1.log" 2>&1; echo $? > "$1.done"' \
-  "${2:-12}" "$RUN" "$VDATA" < /dev/null &
+   --minutes "$0" --batch 256 --workers 16 --seed 0 --device cuda "${@:3}" > "$1.log" 2>&1; echo $? > "$1.done"' \
+  "${2:-12}" "$RUN" "$VDATA" "${@:3}" < /dev/null &
 sleep 5
 wait_for_training 560

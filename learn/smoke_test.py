@@ -25,6 +25,7 @@ import torch
 
 import train_depth
 from valerant_learn.depth_net import DepthNet
+from valerant_learn.floor_prior import floor_log_depth
 from valerant_learn.log16 import decode_log16, encode_log16
 from valerant_learn.losses import laplace_nll
 from valerant_learn.metrics import frame_metrics
@@ -164,6 +165,43 @@ class LossTest(unittest.TestCase):
         self.assertLess(losses[-1], 0.8 * losses[0], losses)
 
 
+class FloorPriorTest(unittest.TestCase):
+    def test_hand_worked_rows(self):
+        prior = torch.exp(floor_log_depth(HEIGHT, WIDTH, CAMERA, 80.0))
+        self.assertEqual(tuple(prior.shape), (HEIGHT, WIDTH))
+        # eye_height_m * fy = 1.5625 * 64 = 100, cy = 47.5:
+        expected = {95: 100 / 47.5,     # 2.105263 m, the bottom row
+                    57: 100 / 9.5,      # 10.526316 m
+                    49: 100 / 1.5,      # 66.666667 m
+                    48: 80.0,           # 100 / 0.5 = 200 m is beyond far
+                    47: 80.0, 0: 80.0}  # at and above the horizon
+        for row, depth in expected.items():
+            self.assertAlmostEqual(float(prior[row, 0]), depth, places=4, msg="row %d" % row)
+            self.assertEqual(float(prior[row].min()), float(prior[row].max()), "row %d is not constant" % row)
+
+    def test_bad_camera(self):
+        with self.assertRaises(ValueError) as caught:
+            floor_log_depth(HEIGHT, WIDTH, {"fy": 64.0, "cy": 47.5}, 80.0)
+        self.assertIn("lacks eye_height_m", str(caught.exception))
+        with self.assertRaises(ValueError) as caught:
+            floor_log_depth(HEIGHT, WIDTH, dict(CAMERA, fy=0.0), 80.0)
+        self.assertIn("fy 0.0", str(caught.exception))
+
+    def test_untrained_net_predicts_the_floor(self):
+        """The depth head starts at zero, so a floor-relative net predicts every
+        floor pixel's depth (under 80 m) before any training."""
+        rgb, depth = synthetic_frame(np.random.default_rng(3))
+        model = DepthNet(HEIGHT, WIDTH, CAMERA).eval()
+        with torch.no_grad():
+            predicted = torch.exp(model(train_depth.as_input(torch.from_numpy(rgb[None])))[0, 0]).numpy()
+        rows = np.arange(HEIGHT)[:, None] - CAMERA["cy"]
+        with np.errstate(divide="ignore"):
+            floor = np.broadcast_to(np.where(rows > 0, EYE_HEIGHT_M * CAMERA["fy"] / rows, np.inf), depth.shape)
+        on_floor = np.isclose(depth, floor, rtol=1e-5) & (floor < 80)
+        self.assertGreater(on_floor.sum(), 1000)
+        self.assertLess(np.abs(predicted[on_floor] / floor[on_floor] - 1).max(), 1e-5)
+
+
 class ShardTest(unittest.TestCase):
     def test_round_trip(self):
         data = load_shards([TRAIN_SHARD, VAL_SHARD])
@@ -236,11 +274,20 @@ class TrainDepthTest(unittest.TestCase):
         self.assertIn("val maps overlap train maps: " + TRAIN_MAP, message)
 
     def test_end_to_end_on_cpu(self):
-        out = os.path.join(WORK, "run")
+        self.train_and_check("run", [])
+
+    def test_end_to_end_floor_relative(self):
+        metrics = self.train_and_check("run_floor", ["--floor-prior"])
+        self.assertEqual(metrics["floor_prior"], {key: CAMERA[key] for key in ("fy", "cy", "eye_height_m")})
+
+    def train_and_check(self, name, options):
+        """Trains 5 steps on the CPU with options; checks the outputs and the ONNX
+        against torch; returns metrics.json."""
+        out = os.path.join(WORK, name)
         env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")
         command = [sys.executable, os.path.join(HERE, "train_depth.py"), "--train", TRAIN_SHARD,
                    "--val", VAL_SHARD, "--out", out, "--steps", "5", "--batch", "4", "--eval-every", "3",
-                   "--device", "cpu", "--workers", "1"]
+                   "--device", "cpu", "--workers", "1"] + options
         run = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                              universal_newlines=True, timeout=120)
         self.assertEqual(run.returncode, 0, run.stdout)
@@ -250,7 +297,7 @@ class TrainDepthTest(unittest.TestCase):
             metrics = json.load(handle)
         for key in ("val", "train_subset", "parameters", "flops_per_frame", "train_seconds", "device",
                     "torch_version", "seed", "command_line", "train_frames", "val_frames", "train_maps",
-                    "val_maps", "onnx_sha256"):
+                    "val_maps", "onnx_sha256", "floor_prior"):
             self.assertIn(key, metrics)
         self.assertEqual(set(metrics["val"]), {"all", "rotate", "per_map"})
         self.assertEqual(metrics["val"]["all"]["frames"], 8)
@@ -260,11 +307,12 @@ class TrainDepthTest(unittest.TestCase):
             self.assertEqual([line.split(",")[0] for line in handle.read().split()], ["step", "3", "5"])
         # The exported file must run in cv2.dnn and agree with the saved torch weights.
         checkpoint = torch.load(os.path.join(out, "depth_prior.pt"))
-        model = DepthNet(checkpoint["height"], checkpoint["width"])
+        model = DepthNet(checkpoint["height"], checkpoint["width"], checkpoint["floor_prior"])
         model.load_state_dict(checkpoint["state_dict"])
         rgb = train_depth.as_input(torch.from_numpy(load_shards([VAL_SHARD])["rgb"][:3])).contiguous().numpy()
         report = verify_with_opencv(os.path.join(out, "depth_prior.onnx"), model, rgb)
         self.assertLess(report["max_abs_diff_log_depth"], 1e-3)
+        return metrics
 
 
 class JUnitResult(unittest.TextTestResult):

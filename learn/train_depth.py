@@ -59,6 +59,9 @@ def parse_args(argv):
     parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
     parser.add_argument("--workers", type=int, default=min(8, os.cpu_count() or 1),
                         help="threads decoding the shards' images")
+    parser.add_argument("--floor-prior", action="store_true",
+                        help="predict ln depth relative to the floor-plane depth of each image row "
+                             "(valerant_learn/floor_prior.py) instead of outright")
     args = parser.parse_args(argv)
     for name in ("steps", "batch", "eval_every", "workers"):
         value = getattr(args, name)
@@ -201,7 +204,8 @@ def train(model, train_frames, val_frames, args, device, out_dir):
                 best.update(abs_rel=figures["abs_rel"], step=step,
                             state={k: v.detach().clone() for k, v in model.state_dict().items()})
                 torch.save({"state_dict": {k: v.cpu() for k, v in best["state"].items()},
-                            "height": model.height, "width": model.width, "step": step},
+                            "height": model.height, "width": model.width, "step": step,
+                            "floor_prior": floor_prior_camera(model)},
                            os.path.join(out_dir, "depth_prior.pt"))
             print("step %d  %.1f s  lr %.2e  train loss %.4f  val AbsRel %.4f  delta1 %.4f%s"
                   % (step, row["seconds"], optimizer.param_groups[0]["lr"], row["train_loss"],
@@ -237,6 +241,12 @@ def train(model, train_frames, val_frames, args, device, out_dir):
     return rows, best["step"], step, seconds
 
 
+def floor_prior_camera(model):
+    """The camera the model's floor prior was built for (DepthNet's floor_prior
+    argument), None without one."""
+    return None if model.floor_prior is None else dict(model.floor_prior.camera)
+
+
 def sha256(path):
     with open(path, "rb") as handle:
         return hashlib.sha256(handle.read()).hexdigest()
@@ -261,14 +271,14 @@ def main(argv=None):
     try:
         device = pick_device(args.device)
         train_data, val_data = load_split(args)
-        model = DepthNet(train_data["meta"]["height"], train_data["meta"]["width"])
+        meta = train_data["meta"]
+        model = DepthNet(meta["height"], meta["width"], meta if args.floor_prior else None)
     except ValueError as error:
         sys.exit("train_depth: error: %s" % error)
     os.makedirs(args.out, exist_ok=True)
     for name, data in (("train", train_data), ("val", val_data)):
         print("%s: %d frames from %d shards, maps %s" % (name, len(data["kind"]), len(data["meta"]["shards"]),
                                                          ", ".join(data["meta"]["maps"])), flush=True)
-    meta = train_data["meta"]
     parameters = count_parameters(model)
     macs = count_macs(model, meta["height"], meta["width"])
     print("model: %d parameters, %.1f M multiply-adds a frame; device %s"
@@ -290,6 +300,7 @@ def main(argv=None):
     verify_rgb = as_input(val_frames.rgb[:VERIFY_FRAMES]).cpu().contiguous().numpy()
     onnx_report = export_onnx(model, onnx_path, verify_rgb, {
         "sky_depth_m": SKY_DEPTH_M, "fx": meta["fx"], "fy": meta["fy"], "cx": meta["cx"], "cy": meta["cy"],
+        "eye_height_m": meta["eye_height_m"], "floor_prior": "yes" if args.floor_prior else "no",
         "train_maps": ",".join(meta["maps"]), "val_abs_rel": val_summary["all"]["abs_rel"]})
     print("exported %s; cv2.dnn vs torch max |diff| ln depth %.2e, ln b %.2e"
           % (onnx_path, onnx_report["max_abs_diff_log_depth"], onnx_report["max_abs_diff_log_scale"]), flush=True)
@@ -300,6 +311,7 @@ def main(argv=None):
         "train_subset": train_summary,
         "sky_depth_m": SKY_DEPTH_M,
         "metric_depth_range_m": [METRIC_MIN_M, METRIC_MAX_M],
+        "floor_prior": floor_prior_camera(model),
         "parameters": parameters,
         "macs_per_frame": macs,
         "flops_per_frame": 2 * macs,

@@ -8,7 +8,10 @@ OpenCV 4.6's ONNX importer runs: Conv, Relu, Add, Sub, Mul, Slice, Concat, Resiz
 
 Input "rgb": float32 [N,3,H,W] RGB in [0,1]. Output "depth_and_scale": float32
 [N,2,H,W]; channel 0 is ln(depth in metres), channel 1 is ln(b), b the Laplace
-scale of the ln-depth error, clamped to [LOG_SCALE_MIN, LOG_SCALE_MAX]."""
+scale of the ln-depth error, clamped to [LOG_SCALE_MIN, LOG_SCALE_MAX].
+
+With a floor prior (floor_prior.py) the depth head predicts ln depth relative to
+the floor-plane depth of each row, added inside the net: the output is the same."""
 import copy
 import math
 
@@ -16,6 +19,9 @@ import torch
 from torch import nn
 import torch.nn.functional as F
 from torch.nn.utils.fusion import fuse_conv_bn_eval
+
+from .floor_prior import floor_log_depth
+from .losses import SKY_DEPTH_M
 
 INPUT_NAME = "rgb"
 OUTPUT_NAME = "depth_and_scale"
@@ -79,6 +85,21 @@ class AppendCoordinates(nn.Module):
         return torch.cat([rgb, rgb[:, :2] * 0 + self.coords], 1)
 
 
+class AddFloorPrior(nn.Module):
+    """Adds the floor prior's ln depth (floor_prior.floor_log_depth, far at the sky
+    depth) to the depth head's [N,1,H,W] output. The constant is made batch-sized
+    as rgb[:, :1] * 0 + prior for the reason AppendCoordinates gives: OpenCV 4.6
+    fails when it fuses an Add of a spatial constant into the conv before it."""
+
+    def __init__(self, height, width, camera):
+        super().__init__()
+        self.camera = {key: float(camera[key]) for key in ("fy", "cy", "eye_height_m")}
+        self.register_buffer("log_depth", floor_log_depth(height, width, camera, SKY_DEPTH_M)[None])
+
+    def forward(self, residual, rgb):
+        return residual + (rgb[:, :1] * 0 + self.log_depth)
+
+
 class InvertedResidual(nn.Module):
     """MobileNetV2 block: 1x1 expand, 3x3 depthwise, linear 1x1 project."""
 
@@ -118,11 +139,16 @@ def clamp_by_relu(x, low, high):
 
 
 class DepthNet(nn.Module):
-    def __init__(self, height=96, width=128):
+    """floor_prior: None (the depth head predicts ln depth itself) or the camera
+    (fy, cy, eye_height_m) whose floor-plane depth the head predicts ln depth
+    relative to."""
+
+    def __init__(self, height=96, width=128, floor_prior=None):
         super().__init__()
         if height % 32 or width % 32:
             raise ValueError("DepthNet needs a size divisible by 32, got %dx%d" % (width, height))
         self.height, self.width = height, width
+        self.floor_prior = None if floor_prior is None else AddFloorPrior(height, width, floor_prior)
         self.coordinates = AppendCoordinates(height, width)
         self.stem = ConvBN(5, STEM_CHANNELS, 3, 2)
         self.stages = nn.ModuleList()
@@ -142,7 +168,8 @@ class DepthNet(nn.Module):
         self.depth_head = nn.Conv2d(channels, 1, 1)
         self.scale_head = nn.Conv2d(channels, 1, 1)
         nn.init.zeros_(self.depth_head.weight)
-        nn.init.constant_(self.depth_head.bias, math.log(INITIAL_DEPTH_M))
+        # With the prior the net starts at the floor-plane depth (under the sky's).
+        nn.init.constant_(self.depth_head.bias, 0.0 if self.floor_prior is not None else math.log(INITIAL_DEPTH_M))
         nn.init.zeros_(self.scale_head.bias)
 
     def forward(self, rgb):
@@ -154,7 +181,13 @@ class DepthNet(nn.Module):
         x = skips.pop()
         for stage in self.decoder:
             x = stage(x, skips.pop() if skips else None)
-        return torch.cat([self.depth_head(x), clamp_by_relu(self.scale_head(x), LOG_SCALE_MIN, LOG_SCALE_MAX)], 1)
+        log_depth = self.depth_head(x)
+        if self.floor_prior is not None:
+            log_depth = self.floor_prior(log_depth, rgb)
+        log_scale = clamp_by_relu(self.scale_head(x), LOG_SCALE_MIN, LOG_SCALE_MAX)
+        if log_scale.dtype != log_depth.dtype:  # under autocast the float32 prior promotes log_depth
+            log_scale = log_scale.to(log_depth.dtype)
+        return torch.cat([log_depth, log_scale], 1)
 
 
 def fold_batchnorm(model):

@@ -25,8 +25,9 @@ KINDS = ("rollout", "rotate", "walk")
 INT_COLUMNS = ("spawn", "sequence", "step")
 FLOAT_COLUMNS = ("x", "y", "z", "yaw_deg", "pitch_deg")
 STR_COLUMNS = ("map", "kind", "key")
-# Fields every shard of one data set must agree on: the net is trained for one camera.
-CAMERA_KEYS = ("width", "height", "fx", "fy", "cx", "cy", "depth_min_m", "depth_max_m")
+# Fields every shard of one data set must agree on: the net is trained for one camera
+# at one height over the floor.
+CAMERA_KEYS = ("width", "height", "fx", "fy", "cx", "cy", "eye_height_m", "depth_min_m", "depth_max_m")
 REQUIRED_META = ("format", "depth_encoding", "maps") + CAMERA_KEYS
 
 
