@@ -2,14 +2,18 @@
 # The depth prior's training run on the GPU host (the `device` tool). One call carries
 # at most 64 MiB and runs at most 10 minutes, so the shards travel in parts and the
 # training outlives a call: each call stages the shards it carries under $VDATA
-# (outside the working tree; kept while the machine stays warm), `start` trains in the
-# background and waits as long as a call may, `collect` waits for the end and copies
-# the results to $OUT/run.
+# (outside the working tree; kept while the machine stays warm), `start` launches the
+# training in the background and returns, `wait` calls keep the machine warm while it
+# runs, and `collect` waits for the end and copies the results to $OUT/run.
 #   learn/gpu_train.sh stage             copy the carried $DATA/train_*/*.zip and $DATA/eval/*.zip to $VDATA
 #   learn/gpu_train.sh start MINUTES [OPTION...]
 #                                        stage, then train for MINUTES (in the background);
 #                                        OPTIONs go to train_depth.py (e.g. --floor-prior)
-#   learn/gpu_train.sh collect           wait for the training, copy its files to $OUT/run
+#   learn/gpu_train.sh wait SECONDS      wait that long (or to the end), print the log's tail
+#   learn/gpu_train.sh collect           wait for the training (at most 540 s), copy its files to $OUT/run
+# Make the calls back to back and keep each but the last short (`wait 60`): the machine
+# goes back when idle for 30 s, and once that happened after a 574 s call, taking the
+# training with it. Call `collect` when the training has less than 540 s to go.
 # DATA (default data) may name several folders, space-separated, relative to the folder
 # above learn/: each call may carry other parts (a folder train_X of one call and one of
 # the same name in another call must not hold shards of the same name).
@@ -18,11 +22,17 @@ cd "$(dirname "$0")/.."
 VDATA=${VDATA:-/root/vdata}
 RUN=${RUN:-/root/depth_run}
 mode=${1:-stage}
+case $mode in stage | start | wait | collect) ;; *) echo "gpu_train.sh: unknown mode '$mode' (stage, start, wait or collect)" >&2; exit 2 ;; esac
 wait_for_training() {  # at most $1 seconds
   local deadline=$((SECONDS + $1))
   while [ ! -f "$RUN.done" ] && [ $SECONDS -lt $deadline ] && pgrep -f learn/train_depth.py > /dev/null; do sleep 5; done
   tail -n 30 "$RUN.log"
 }
+if [ "$mode" = wait ]; then
+  [[ ${2:-} =~ ^[0-9]+$ ]] || { echo "gpu_train.sh wait: SECONDS must be a whole number, got '${2:-}'" >&2; exit 2; }
+  wait_for_training "$2"
+  exit 0
+fi
 if [ "$mode" = collect ]; then
   wait_for_training 540
   [ -f "$RUN.done" ] || { echo "training still running"; exit 3; }
@@ -46,4 +56,4 @@ setsid bash -c 'PYTHONUNBUFFERED=1 python3 learn/train_depth.py --train "$2/trai
    --minutes "$0" --batch 256 --workers 16 --seed 0 --device cuda "${@:3}" > "$1.log" 2>&1; echo $? > "$1.done"' \
   "${2:-12}" "$RUN" "$VDATA" "${@:3}" < /dev/null &
 sleep 5
-wait_for_training 560
+wait_for_training 20
