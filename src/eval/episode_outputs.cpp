@@ -21,6 +21,15 @@ namespace {
 constexpr float kSurfaceSamplesPerSquareMetre = 50;  // 14 cm spacing: accuracy to ~7 cm
 constexpr int kTopdownPixelsPerCell = 16;  // 16 px per metre-sized cell: a 40 m map is ~700 px
 
+// The map of a finished episode; scaled by the eye height, or 1 for the oracle SLAM
+// whose map is metric (map_frame.h).
+RunMap runMapOf(const Episode& episode) {
+  const bool metric_slam = episode.config().slam.backend == "oracle";  // the BSP frame in metres (oracle_slam.h)
+  return RunMap{episode.config(), episode.map(),
+                mapFrameOf(episode.gridAnchor(), episode.gridHeading(), metric_slam, episode.config()),
+                episode.trajectory(), nlohmann::json::object()};
+}
+
 nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map, const std::vector<FusedPoint>& cloud) {
   const Config& config = episode.config();
   const auto spawn = map.bsp.spawnPoints().at(config.world.spawn);

@@ -117,13 +117,6 @@ FloorGrid RunMap::floorGrid(double cell_fraction) const {
   return map.floorGrid(anchor_grid, cell_fraction * anchor_grid.cellSize());
 }
 
-RunMap runMapOf(const Episode& episode) {
-  const bool metric_slam = episode.config().slam.backend == "oracle";  // the BSP frame in metres (oracle_slam.h)
-  return RunMap{episode.config(), episode.map(),
-                mapFrameOf(episode.gridAnchor(), episode.gridHeading(), metric_slam, episode.config()),
-                episode.trajectory(), nlohmann::json::object()};
-}
-
 nlohmann::json saveRunMap(const std::string& dir, const RunMap& run, bool overwrite) {
   const std::string points_path = inside(dir, kKeyframePoints), poses_path = inside(dir, kKeyframePoses);
   for (const auto& path : {points_path, poses_path}) requireWritable(path, overwrite);

@@ -19,9 +19,9 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "valerant/common/error.h"
-#include "valerant/explore/coverage_grid.h"
-#include "valerant/map/map_exports.h"
+#include "valerant/geometry/coverage_grid.h"
 #include "valerant/map/live_map.h"
+#include "valerant/map/map_exports.h"
 #include "valerant/ros/conversions.h"
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/node_main.h"

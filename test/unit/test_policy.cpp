@@ -2,10 +2,10 @@
 // on hand-built grids and step sequences.
 #include <gtest/gtest.h>
 
-#include "valerant/explore/coverage_grid.h"
 #include "valerant/explore/failed_region_memory.h"
 #include "valerant/explore/policy.h"
 #include "valerant/explore/rewind_controller.h"
+#include "valerant/geometry/coverage_grid.h"
 
 #include <set>
 

@@ -2,7 +2,7 @@
 // Frames and floors of a synthetic branch for BranchCheck tests: the map frame is the
 // first camera's optical frame (y down), the camera walks along +z, and the floor is
 // the plane y = floor_y, so the camera-to-floor distance kappa is floor_y.
-#include "valerant/explore/floor_plane.h"
+#include "valerant/geometry/floor_plane.h"
 #include "valerant/slam/slam.h"
 
 namespace valerant::test {

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "valerant/explore/branch_verdict.h"
-#include "valerant/explore/floor_plane.h"
 #include "valerant/explore/stage_seconds.h"
+#include "valerant/geometry/floor_plane.h"
 #include "valerant/slam/slam.h"
 #include "valerant/world/world_model.h"
 

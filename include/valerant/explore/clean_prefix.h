@@ -17,7 +17,7 @@
 // prefix as a new candidate ("uw@k"), rolled out and reconstructed afresh.
 #include <vector>
 
-#include "valerant/explore/floor_plane.h"
+#include "valerant/geometry/floor_plane.h"
 
 namespace valerant {
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "valerant/config/config.h"
-#include "valerant/explore/floor_plane.h"
+#include "valerant/geometry/floor_plane.h"
 
 namespace valerant {
 

@@ -6,7 +6,7 @@
 // must still be able to leave it in another direction.
 #include <set>
 
-#include "valerant/explore/coverage_grid.h"
+#include "valerant/geometry/coverage_grid.h"
 
 namespace valerant {
 

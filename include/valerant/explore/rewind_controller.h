@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "valerant/config/config.h"
-#include "valerant/explore/coverage_grid.h"
+#include "valerant/geometry/coverage_grid.h"
 
 namespace valerant {
 

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "valerant/config/config.h"
-#include "valerant/explore/coverage_grid.h"
 #include "valerant/explore/episode.h"
 #include "valerant/explore/failed_region_memory.h"
+#include "valerant/geometry/coverage_grid.h"
 #include "valerant/map/map_fusion.h"
 
 namespace valerant {

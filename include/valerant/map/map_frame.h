@@ -17,7 +17,7 @@
 #include <string>
 
 #include "valerant/config/config.h"
-#include "valerant/explore/floor_plane.h"
+#include "valerant/geometry/floor_plane.h"
 
 namespace valerant {
 

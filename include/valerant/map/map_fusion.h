@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "valerant/config/config.h"
-#include "valerant/explore/coverage_grid.h"
-#include "valerant/explore/floor_plane.h"
+#include "valerant/geometry/coverage_grid.h"
+#include "valerant/geometry/floor_plane.h"
 #include "valerant/slam/slam.h"
 
 namespace octomap {

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "valerant/config/config.h"
-#include "valerant/explore/coverage_grid.h"
+#include "valerant/geometry/coverage_grid.h"
 #include "valerant/map/map_fusion.h"
 
 namespace octomap {

@@ -15,10 +15,9 @@
 #include <vector>
 
 #include "valerant/config/config.h"
-#include "valerant/explore/coverage_grid.h"
-#include "valerant/explore/episode.h"
-#include "valerant/map/map_fusion.h"
+#include "valerant/geometry/coverage_grid.h"
 #include "valerant/map/map_frame.h"
+#include "valerant/map/map_fusion.h"
 
 namespace valerant {
 
@@ -34,10 +33,6 @@ struct RunMap {
   // The 2D floor grid of the map over that grid, cells `cell_fraction` of its cell.
   FloorGrid floorGrid(double cell_fraction) const;
 };
-
-// The map of a finished episode; scaled by the eye height, or 1 for the oracle SLAM
-// whose map is metric (map_frame.h).
-RunMap runMapOf(const Episode& episode);
 
 // Writes keyframes.pcd and keyframes.txt into `dir` (which must hold config.yaml
 // already: saveRunConfig); returns the "run_map" object for report.json. Never

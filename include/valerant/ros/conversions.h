@@ -19,7 +19,7 @@
 #include <valerant/SlamFrame.h>
 
 #include "valerant/explore/branch_verdict.h"
-#include "valerant/explore/floor_plane.h"
+#include "valerant/geometry/floor_plane.h"
 #include "valerant/map/map_fusion.h"
 #include "valerant/slam/slam.h"
 #include "valerant/world/world_model.h"

@@ -1,4 +1,4 @@
-#include "valerant/explore/coverage_grid.h"
+#include "valerant/geometry/coverage_grid.h"
 
 #include <cmath>
 #include <limits>
