@@ -6,13 +6,8 @@
 # package.xml, the setup files, the CMake/pkg-config files and, through
 # generate_messages, the msg/srv/action files and the generated C++ and Python code.
 
-# The ROS-free core: one library, or the list the CMakeLists names when it splits it.
-if(DEFINED VALERANT_LIBRARIES)
-  set(VALERANT_INSTALLED_CORE ${VALERANT_LIBRARIES})
-else()
-  set(VALERANT_INSTALLED_CORE valerant_core)
-endif()
-install(TARGETS ${VALERANT_INSTALLED_CORE} valerant_ros valerant_nodelets
+# The ROS-free core is one library per layer (VALERANT_LIBRARIES, cmake/valerant_layers.cmake).
+install(TARGETS ${VALERANT_LIBRARIES} valerant_ros valerant_nodelets
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_GLOBAL_BIN_DESTINATION})

@@ -31,8 +31,7 @@ BranchResult evaluateBranch(Rollout rollout, bool rotation_only, std::unique_ptr
   Stopwatch watch;
   std::vector<size_t> keyframe_frames;
   for (size_t i = 0; i < out.rollout.frames.size(); ++i) {
-    const FrameTruth* truth = i < out.rollout.truth.size() ? &out.rollout.truth[i] : nullptr;
-    TrackedStep step = trackStep(*slam, out.rollout.frames[i], truth);
+    TrackedStep step = trackStep(*slam, SlamInput{out.rollout.frames[i], {out.rollout.id, static_cast<int>(i)}});
     out.seconds.slam += watch.lap();
     const KeyframeCloud* keyframe = step.keyframe ? &*step.keyframe : nullptr;
     const FloorPlane plane = floorStep(floor, step.frame, keyframe);

@@ -2,11 +2,8 @@
 
 namespace valerant {
 
-TrackedStep trackStep(Slam& slam, const cv::Mat& rgb, const FrameTruth* truth) {
-  SlamInput in;
-  in.rgb = rgb;
-  in.truth = truth;
-  TrackedStep step{slam.track(in), std::nullopt};
+TrackedStep trackStep(Slam& slam, const SlamInput& input) {
+  TrackedStep step{slam.track(input), std::nullopt};
   if (step.frame.keyframe && slam.keyframeCount() > 0)
     step.keyframe = slam.keyframeClouds(slam.keyframeCount() - 1).front();
   return step;

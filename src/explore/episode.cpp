@@ -22,8 +22,8 @@ std::vector<Eigen::Vector3d> centresOf(const Eigen::Vector3d& start, const std::
 
 }  // namespace
 
-Episode::Episode(WorldModel& world, std::unique_ptr<Slam> slam, const Config& config)
-    : Episode(world, std::make_unique<LocalBranchPipeline>(std::move(slam), config),
+Episode::Episode(WorldModel& world, const Config& config)
+    : Episode(world, std::make_unique<LocalBranchPipeline>(world.intrinsics(), config),
               std::make_unique<PolicyBranchSelector>(config.policy), nullptr, nullptr, config) {}
 
 Episode::Episode(WorldModel& world, BranchPipeline& pipeline, BranchSelector& selector, const Config& config)

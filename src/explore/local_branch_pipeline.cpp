@@ -4,21 +4,23 @@
 #include "valerant/explore/branch_check.h"
 #include "valerant/explore/branch_evaluator.h"
 #include "valerant/explore/branch_stages.h"
+#include "valerant/slam/slam_factory.h"
 
 namespace valerant {
 
-LocalBranchPipeline::LocalBranchPipeline(std::unique_ptr<Slam> slam, const Config& config)
+LocalBranchPipeline::LocalBranchPipeline(const CameraIntrinsics& intrinsics, const Config& config)
     : config_(config),
-      slam_(std::move(slam)),
+      truth_(std::make_shared<RolloutTruth>()),
+      slam_(makeSlam(config.slam.backend, intrinsics, config, truth_)),
       floor_(config.floor, Eigen::Vector3d::UnitZ(), config.collision.min_confidence, config.world.seed),
       committed_(config.collision) {}
 
 BranchResult LocalBranchPipeline::start(const Rollout& context) {
   BranchResult out;
   out.rollout = context;
+  const RolloutTruth::Hold held = truth_->hold(context);
   for (size_t i = 0; i < context.frames.size(); ++i) {
-    const FrameTruth* truth = i < context.truth.size() ? &context.truth[i] : nullptr;
-    TrackedStep step = trackStep(*slam_, context.frames[i], truth);
+    TrackedStep step = trackStep(*slam_, SlamInput{context.frames[i], {context.id, static_cast<int>(i)}});
     if (i == 0) floor_ = startFloorEstimator(config_, step.frame.camera_to_map);
     if (step.keyframe) {
       out.keyframe_floors.push_back(floorStep(floor_, step.frame, &*step.keyframe));
@@ -40,8 +42,14 @@ void LocalBranchPipeline::restore(CheckpointId id) {
 }
 
 std::future<BranchResult> LocalBranchPipeline::evaluate(Rollout rollout, bool rotation_only) {
-  return std::async(std::launch::async, evaluateBranch, std::move(rollout), rotation_only, slam_->branch(), floor_,
-                    committed_.points(), std::cref(config_));
+  RolloutTruth::Hold held = truth_->hold(rollout);
+  return std::async(std::launch::async, [held = std::move(held), rollout = std::move(rollout), rotation_only,
+                                         slam = slam_->branch(), floor = floor_, committed = committed_.points(),
+                                         &config = config_]() mutable {
+    const RolloutTruth::Hold until_evaluated = std::move(held);
+    return evaluateBranch(std::move(rollout), rotation_only, std::move(slam), std::move(floor), std::move(committed),
+                          config);
+  });
 }
 
 void LocalBranchPipeline::commit(const BranchResult& chosen) {

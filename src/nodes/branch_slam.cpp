@@ -41,6 +41,7 @@
 #include "valerant/ros/nodelet_of.h"
 #include "valerant/ros/topic_links.h"
 #include "valerant/ros/service_call.h"
+#include "valerant/slam/rollout_truth.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/action_sequence.h"
 
@@ -121,12 +122,15 @@ class BranchSlot {
                                     trajectory.empty() ? Eigen::Isometry3d::Identity() : trajectory.back());
   }
 
-  static TrackedStep track(Slam& slam, const valerant::Frame& frame) {
+  // The frame's ground truth, when it carries one, is held in truth_ while it is
+  // tracked: the oracle backend reads it there.
+  TrackedStep track(Slam& slam, const valerant::Frame& frame) {
     const cv::Mat rgb = valerant::bridge::fromImageMsg(frame.rgb);
     if (rgb.empty()) throw InputError("frame " + std::to_string(frame.key.index), "has no image");
-    std::optional<FrameTruth> truth;
-    if (!frame.truth.empty()) truth = valerant::bridge::fromMsg(frame.truth.front());
-    return trackStep(slam, rgb, truth ? &*truth : nullptr);
+    const FrameStamp stamp{frame.key.rollout_id, static_cast<int>(frame.key.index)};
+    std::optional<RolloutTruth::Hold> held;
+    if (!frame.truth.empty()) held.emplace(truth_->hold(stamp, valerant::bridge::fromMsg(frame.truth.front())));
+    return trackStep(slam, SlamInput{rgb, stamp});
   }
 
   valerant::SlamFrame trackedMsg(const valerant::FrameKey& key, const TrackedStep& step, bool with_depth) const {
@@ -210,7 +214,7 @@ class BranchSlot {
 
   bool trackContext(valerant::TrackContext::Request&, valerant::TrackContext::Response& res) {
     return guarded(name_ + "/track_context", res, [&] {
-      auto slam = makeSlam(config_.slam.backend, intrinsics_, config_);
+      auto slam = makeSlam(config_.slam.backend, intrinsics_, config_, truth_);
       for (const auto& frame : fetch(0)) res.frames.push_back(trackedMsg(frame.key, track(*slam, frame), false));
       committed_ = std::move(slam);
       saved_.clear();
@@ -266,6 +270,7 @@ class BranchSlot {
   CameraIntrinsics intrinsics_;
   SlotHost& host_;
   valerant::bridge::ServiceLink get_rollout_;  // track_context and replayed commits
+  const std::shared_ptr<RolloutTruth> truth_ = std::make_shared<RolloutTruth>();  // read by the oracle backend
   std::unique_ptr<Slam> committed_;
   CheckpointStore<std::shared_ptr<const SlamState>> saved_;
   CheckpointId latest_ = 0;  // the checkpoint the committed state stands at

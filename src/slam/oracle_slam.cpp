@@ -1,6 +1,7 @@
 #include "valerant/slam/oracle_slam.h"
 
 #include <cmath>
+#include <string>
 
 #include "valerant/common/error.h"
 
@@ -30,12 +31,19 @@ std::vector<CloudPoint> backProject(const cv::Mat& rgb, const cv::Mat& depth, co
   return points;
 }
 
-OracleSlam::OracleSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config)
-    : intrinsics_(intrinsics), config_(config) {}
+OracleSlam::OracleSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config,
+                       std::shared_ptr<const GroundTruthSource> truth)
+    : intrinsics_(intrinsics), config_(config), truth_(std::move(truth)) {
+  if (!truth_) throw InputError("oracle SLAM", "needs a ground-truth source");
+}
 
 TrackedFrame OracleSlam::track(const SlamInput& input) {
-  if (!input.truth) throw InputError("oracle SLAM", "needs ground truth, but the world backend gave none");
-  const FrameTruth& truth = *input.truth;
+  const std::optional<TrueView> view = truth_->viewOf(input.stamp);
+  if (!view)
+    throw InputError("oracle SLAM", "has no ground truth for frame " + std::to_string(input.stamp.index) +
+                                        " of rollout " + std::to_string(input.stamp.rollout) +
+                                        " (the world backend gave none)");
+  const TrueView& truth = *view;
   TrackedFrame f;
   f.state = TrackingState::kTracking;
   f.camera_to_map = truth.camera_to_world;

@@ -7,8 +7,9 @@
 
 namespace valerant {
 
-std::unique_ptr<Slam> makeSlam(const std::string& backend, const CameraIntrinsics& intrinsics, const Config& config) {
-  if (backend == "oracle") return std::make_unique<OracleSlam>(intrinsics, config.slam);
+std::unique_ptr<Slam> makeSlam(const std::string& backend, const CameraIntrinsics& intrinsics, const Config& config,
+                               std::shared_ptr<const GroundTruthSource> truth) {
+  if (backend == "oracle") return std::make_unique<OracleSlam>(intrinsics, config.slam, std::move(truth));
   if (backend == "visual")
     return std::make_unique<VisualSlam>(intrinsics, config.slam, VisualSlamParams{}, loadDepthPrior(config.slam));
   throw InputError("slam backend '" + backend + "'", "unknown (known: visual, oracle)");

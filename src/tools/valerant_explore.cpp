@@ -29,7 +29,6 @@
 #include "valerant/explore/episode.h"
 #include "valerant/explore/episode_json.h"
 #include "valerant/map/run_map.h"
-#include "valerant/slam/slam_factory.h"
 #include "valerant/world/quake3/quake3_world.h"
 
 using namespace valerant;
@@ -100,7 +99,7 @@ int main(int argc, char** argv) {
 
     auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
     quake3::Quake3World world(map, config);
-    Episode episode(world, makeSlam(config.slam.backend, world.intrinsics(), config), config);
+    Episode episode(world, config);
 
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);

@@ -22,6 +22,7 @@
 #include "valerant/common/tum_trajectory.h"
 #include "valerant/eval/trajectory_metrics.h"
 #include "valerant/map/map_exports.h"
+#include "valerant/slam/rollout_truth.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/quake3/quake3_world.h"
 
@@ -56,12 +57,12 @@ struct Track {
   Clock time;
 };
 
-Track trackFrames(Slam& slam, const Rollout& r) {
+// `truth` holds the rollout's ground truth while it is tracked (the oracle reads it).
+Track trackFrames(Slam& slam, const Rollout& r, RolloutTruth& truth) {
   Track t;
+  const RolloutTruth::Hold held = truth.hold(r);
   for (size_t i = 0; i < r.frames.size(); ++i) {
-    SlamInput in;
-    in.rgb = r.frames[i];
-    if (i < r.truth.size()) in.truth = &r.truth[i];
+    const SlamInput in{r.frames[i], {r.id, static_cast<int>(i)}};
     const Clock start = Clock::now();
     t.frames.push_back(slam.track(in));
     t.time += Clock::now() - start;
@@ -152,12 +153,13 @@ int main(int argc, char** argv) {
 
     auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
     quake3::Quake3World world(map, config);
-    auto slam = makeSlam(backend, world.intrinsics(), config);
+    const auto truth = std::make_shared<RolloutTruth>();
+    auto slam = makeSlam(backend, world.intrinsics(), config, truth);
     std::cerr << "valerant_slam: " << backend << " SLAM on " << config.world.map << " spawn " << config.world.spawn
               << ", " << sequences.size() << " candidates\n";
     fs::create_directories(out);
     const Rollout context = world.context();
-    trackFrames(*slam, context);
+    trackFrames(*slam, context, *truth);
 
     nlohmann::json candidates = nlohmann::json::array();
     const CheckpointId start = world.checkpoint();
@@ -165,7 +167,7 @@ int main(int argc, char** argv) {
       world.restore(start);
       const Rollout rollout = world.rollout(seq);
       auto branch = slam->branch();
-      const Track track = trackFrames(*branch, rollout);
+      const Track track = trackFrames(*branch, rollout, *truth);
       const std::string dir = out + "/" + (seq.name.find(':') == std::string::npos ? seq.name : "custom");
       nlohmann::json c = evaluateCandidate(seq.name, context, rollout, *branch, track,
                                            config.collision.min_confidence, dir);

@@ -7,7 +7,6 @@
 #include "valerant/explore/episode.h"
 #include "valerant/explore/episode_json.h"
 #include "valerant/explore/local_branch_pipeline.h"
-#include "valerant/slam/oracle_slam.h"
 #include "valerant/world/quake3/quake3_world.h"
 
 using namespace valerant;
@@ -29,7 +28,7 @@ Config smallConfig(int budget) {
 std::vector<std::string> runDecisions(const Config& config) {
   auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
   quake3::Quake3World world(map, config);
-  Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  Episode episode(world, config);
   std::vector<std::string> decisions;
   episode.runUntilDone([&](const StepRecord& r) { decisions.push_back(toJson(r)["chosen"]); });
   return decisions;
@@ -42,7 +41,7 @@ TEST(Episode, SameSeedSameDecisionsAndConsistentBookkeeping) {
   const Config config = smallConfig(3);
   auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
   quake3::Quake3World world(map, config);
-  Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  Episode episode(world, config);
   const cv::Mat spawn_view = episode.currentView().clone();
   episode.runUntilDone(nullptr);
   EXPECT_EQ(episode.committedSteps(), 3);
@@ -73,7 +72,7 @@ TEST(Episode, RewindRestoresTheAnchorAndMarksFailedCells) {
   config.policy.kind = "forward";               // uw while admissible, then rotations
   auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
   quake3::Quake3World world(map, config);
-  Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  Episode episode(world, config);
   size_t before_translation = 0;
   cv::Mat view_before_translation;
   bool rewound = false;
@@ -109,7 +108,7 @@ TEST(Episode, AStallWithNoRewindLeftEndsTheEpisode) {
   const Config config = smallConfig(3);
   auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
   quake3::Quake3World world(map, config);
-  LocalBranchPipeline pipeline(std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  LocalBranchPipeline pipeline(world.intrinsics(), config);
   Episode episode(world, pipeline, stall, config);
   episode.runUntilDone(nullptr);
   EXPECT_TRUE(episode.stuck());
@@ -127,7 +126,7 @@ TEST(Episode, ADeadEndAheadCommitsACleanPrefix) {
   auto map = quake3::loadQuake3Map("oa_dm4", config.world.patch_level);
   auto firstStep = [&](const Config& c) {
     quake3::Quake3World world(map, c);
-    Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), c.slam), c);
+    Episode episode(world, c);
     return episode.step();
   };
   const StepRecord with = firstStep(config);

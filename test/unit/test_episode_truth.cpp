@@ -12,7 +12,6 @@
 #include "brush_world.h"
 #include "openarena_data.h"
 #include "valerant/eval/episode_truth.h"
-#include "valerant/slam/oracle_slam.h"
 #include "valerant/world/quake3/quake3_world.h"
 
 using namespace valerant;
@@ -27,7 +26,7 @@ TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
   config.collision.prefix_commits = false;  // every full translation collides here; a prefix would move
   auto map = quake3::loadQuake3Map("oa_dm4", config.world.patch_level);
   quake3::Quake3World world(map, config);
-  Episode episode(world, std::make_unique<OracleSlam>(world.intrinsics(), config.slam), config);
+  Episode episode(world, config);
   episode.runUntilDone(nullptr);
   for (const auto& pose : episode.trajectory())  // precondition: rotations in place only
     ASSERT_TRUE(pose.translation().isApprox(episode.trajectory().front().translation(), 1e-9));

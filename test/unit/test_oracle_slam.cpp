@@ -6,6 +6,7 @@
 
 #include "valerant/common/error.h"
 #include "valerant/slam/oracle_slam.h"
+#include "valerant/slam/rollout_truth.h"
 
 using namespace valerant;
 
@@ -22,18 +23,25 @@ FrameTruth truthAt(double x_units) {
   return t;
 }
 
-TrackedFrame feed(Slam& slam, const FrameTruth& truth) {
-  SlamInput in;
-  in.rgb = cv::Mat(24, 32, CV_8UC3, cv::Scalar(10, 20, 30));
-  in.truth = &truth;
-  return slam.track(in);
-}
+// Feeds the oracle frames of rollout 1 as a pipeline does: each frame's truth is held
+// in the source while it is tracked.
+struct Feeder {
+  std::shared_ptr<RolloutTruth> truth = std::make_shared<RolloutTruth>();
+  int frames = 0;
+
+  TrackedFrame operator()(Slam& slam, const FrameTruth& frame_truth) {
+    const FrameStamp stamp{1, frames++};
+    const RolloutTruth::Hold held = truth->hold(stamp, frame_truth);
+    return slam.track(SlamInput{cv::Mat(24, 32, CV_8UC3, cv::Scalar(10, 20, 30)), stamp});
+  }
+};
 
 }  // namespace
 
 TEST(OracleSlam, PosesInMetresAndBackProjectedPoints) {
   SlamConfig config;
-  OracleSlam slam(kCamera, config);
+  Feeder feed;
+  OracleSlam slam(kCamera, config, feed.truth);
   const TrackedFrame f = feed(slam, truthAt(64));
   EXPECT_EQ(f.state, TrackingState::kTracking);
   EXPECT_TRUE(f.keyframe);
@@ -53,7 +61,8 @@ TEST(OracleSlam, PosesInMetresAndBackProjectedPoints) {
 
 TEST(OracleSlam, KeyframeScheduleAndRotationOnly) {
   SlamConfig config;
-  OracleSlam slam(kCamera, config);
+  Feeder feed;
+  OracleSlam slam(kCamera, config, feed.truth);
   int keyframes = 0;
   for (int i = 0; i < 17; ++i) keyframes += feed(slam, truthAt(i * 4.0)).keyframe;
   EXPECT_EQ(keyframes, 3);  // frames 0, 8, 16
@@ -63,7 +72,8 @@ TEST(OracleSlam, KeyframeScheduleAndRotationOnly) {
 
 TEST(OracleSlam, BranchesAndSnapshotsAreIsolated) {
   SlamConfig config;
-  OracleSlam base(kCamera, config);
+  Feeder feed;
+  OracleSlam base(kCamera, config, feed.truth);
   feed(base, truthAt(0));
   const auto saved = base.snapshot();
   auto a = base.branch();
@@ -79,7 +89,8 @@ TEST(OracleSlam, BranchesAndSnapshotsAreIsolated) {
 
 TEST(OracleSlam, NanPoseIsLostAndMissingTruthIsAnError) {
   SlamConfig config;
-  OracleSlam slam(kCamera, config);
+  Feeder feed;
+  OracleSlam slam(kCamera, config, feed.truth);
   feed(slam, truthAt(0));
   FrameTruth bad = truthAt(8);
   bad.camera_to_world.translation().x() = std::numeric_limits<double>::quiet_NaN();
@@ -87,7 +98,37 @@ TEST(OracleSlam, NanPoseIsLostAndMissingTruthIsAnError) {
   EXPECT_EQ(f.state, TrackingState::kLost);
   EXPECT_TRUE(f.camera_to_map.matrix().allFinite());
   EXPECT_EQ(slam.keyframeCount(), 1);
-  SlamInput no_truth;
-  no_truth.rgb = cv::Mat(24, 32, CV_8UC3);
-  EXPECT_THROW(slam.track(no_truth), InputError);
+  // A frame the source holds no truth for (released, or never held) is an error, and
+  // so is an oracle without a source.
+  EXPECT_THROW(slam.track(SlamInput{cv::Mat(24, 32, CV_8UC3), {1, 0}}), InputError);
+  EXPECT_THROW(OracleSlam(kCamera, config, nullptr), InputError);
+}
+
+TEST(RolloutTruth, HoldsARolloutsFramesUntilTheLastHoldEnds) {
+  Rollout rollout;
+  rollout.id = 5;
+  rollout.frames.assign(2, cv::Mat(24, 32, CV_8UC3));
+  rollout.truth = {truthAt(32), truthAt(64)};
+  const auto truth = std::make_shared<RolloutTruth>();
+  EXPECT_FALSE(truth->viewOf({5, 1}));
+  {
+    const RolloutTruth::Hold held = truth->hold(rollout);
+    const auto view = truth->viewOf({5, 1});
+    ASSERT_TRUE(view);
+    EXPECT_DOUBLE_EQ(view->camera_to_world.translation().x(), 64);
+    EXPECT_EQ(view->depth_m.data, rollout.truth[1].depth_m.data);  // shared, not copied
+    EXPECT_FALSE(truth->viewOf({5, 2}));
+    EXPECT_FALSE(truth->viewOf({4, 1}));
+    {
+      // The same frame held twice (committed SLAM and a branch) stays until both end.
+      const RolloutTruth::Hold again = truth->hold({5, 0}, rollout.truth[0]);
+    }
+    EXPECT_TRUE(truth->viewOf({5, 0}));
+  }
+  EXPECT_FALSE(truth->viewOf({5, 0}));
+  EXPECT_FALSE(truth->viewOf({5, 1}));
+  Rollout without_truth = rollout;
+  without_truth.truth.clear();
+  const RolloutTruth::Hold nothing = truth->hold(without_truth);
+  EXPECT_FALSE(truth->viewOf({5, 0}));
 }

@@ -75,7 +75,7 @@ TEST(PriorFusion, TurningInPlaceWithAPriorMakesCloudOnlyViews) {
   std::vector<int> views;
   for (int i = 0; i <= 57; ++i) {
     const auto pose = test::BoxRoom::pose(Eigen::Vector3d(0, 0, 4), 90.0 * i / 57);
-    const TrackedFrame f = slam.track(SlamInput{room.render(test::BoxRoom::camera(), pose).rgb, nullptr});
+    const TrackedFrame f = slam.track(SlamInput{room.render(test::BoxRoom::camera(), pose).rgb, {}});
     if (f.keyframe) views.push_back(i);
     EXPECT_NE(f.state, TrackingState::kLost);
   }

@@ -17,8 +17,7 @@ struct TrackedStep {
   std::optional<KeyframeCloud> keyframe;  // set when this frame made a keyframe
 };
 
-// `truth` is read by the oracle backend only (null without ground truth).
-TrackedStep trackStep(Slam& slam, const cv::Mat& rgb, const FrameTruth* truth);
+TrackedStep trackStep(Slam& slam, const SlamInput& input);
 
 // The floor of one frame: a fit on its keyframe cloud, else the current relation.
 FloorPlane floorStep(FloorEstimator& floor, const TrackedFrame& frame, const KeyframeCloud* keyframe);

@@ -52,9 +52,9 @@ struct StepRecord {
 
 class Episode {
  public:
-  // In this process: feeds the world's context (the single starting screenshot) to
-  // `slam` and decides with selectBranch().
-  Episode(WorldModel& world, std::unique_ptr<Slam> slam, const Config& config);
+  // In this process (LocalBranchPipeline, a SLAM of config.slam.backend): feeds it the
+  // world's context (the single starting screenshot) and decides with selectBranch().
+  Episode(WorldModel& world, const Config& config);
   // With any pipeline and selector (e.g. the ROS graph's proxies); both outlive it.
   Episode(WorldModel& world, BranchPipeline& pipeline, BranchSelector& selector, const Config& config);
 

@@ -2,7 +2,9 @@
 // The branch pipeline in this process (what valerant_explore runs): one SLAM and one
 // floor estimator hold the committed state; each candidate is evaluated on copies of
 // them in a thread of its own; committing adopts the winner's copies (both backends
-// are deterministic, so that equals replaying the winner).
+// are deterministic, so that equals replaying the winner). The pipeline feeds the SLAM
+// every frame, so it also holds each rollout's ground truth while its frames are
+// tracked: that is where the oracle backend reads it (slam/rollout_truth.h).
 #include <memory>
 
 #include "valerant/config/config.h"
@@ -10,14 +12,15 @@
 #include "valerant/explore/checkpoint_store.h"
 #include "valerant/explore/committed_points.h"
 #include "valerant/explore/floor_estimator.h"
+#include "valerant/slam/rollout_truth.h"
 #include "valerant/slam/slam.h"
 
 namespace valerant {
 
 class LocalBranchPipeline : public BranchPipeline {
  public:
-  // `slam`: a fresh SLAM; start() feeds it the context.
-  LocalBranchPipeline(std::unique_ptr<Slam> slam, const Config& config);
+  // A fresh SLAM of backend config.slam.backend; start() feeds it the context.
+  LocalBranchPipeline(const CameraIntrinsics& intrinsics, const Config& config);
 
   BranchResult start(const Rollout& context) override;
   void checkpoint(CheckpointId id) override;
@@ -34,6 +37,7 @@ class LocalBranchPipeline : public BranchPipeline {
     CommittedPoints committed;
   };
   Config config_;
+  std::shared_ptr<RolloutTruth> truth_;  // read by the oracle backend
   std::unique_ptr<Slam> slam_;
   FloorEstimator floor_;
   CommittedPoints committed_;  // counted by every branch's BranchCheck

@@ -1,16 +1,22 @@
 #pragma once
 // The upper bound for every ablation: a "SLAM" that reads the engine's ground-truth
 // poses and depth (converted to metres, so the map frame is the BSP frame in metres)
-// and reports a constant confidence above the paper's 4.0 cut. Needs
-// SlamInput::truth; throws InputError without it.
+// and reports a constant confidence above the paper's 4.0 cut. It reads them from the
+// ground-truth source it is built with, by each input's stamp; a frame the source does
+// not know is an InputError.
+#include <memory>
+
 #include "valerant/config/config.h"
+#include "valerant/slam/ground_truth_source.h"
 #include "valerant/slam/slam.h"
 
 namespace valerant {
 
 class OracleSlam : public Slam {
  public:
-  OracleSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config);
+  // Throws InputError without a source.
+  OracleSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config,
+             std::shared_ptr<const GroundTruthSource> truth);
   TrackedFrame track(const SlamInput& input) override;
   std::unique_ptr<Slam> branch() const override;
   std::shared_ptr<const SlamState> snapshot() const override;
@@ -27,6 +33,7 @@ class OracleSlam : public Slam {
   };
   CameraIntrinsics intrinsics_;
   SlamConfig config_;
+  std::shared_ptr<const GroundTruthSource> truth_;  // shared by branches
   State state_;
 };
 

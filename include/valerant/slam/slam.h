@@ -6,12 +6,12 @@
 // snapshot()/restore() save and return to a state for rewinds.
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
 #include "valerant/common/camera.h"
-#include "valerant/world/world_model.h"
 
 namespace valerant {
 
@@ -43,11 +43,18 @@ struct TrackedFrame {
   cv::Mat confidence;          // CV_32F, same size, 0 where depth is unknown
 };
 
-// What a backend gets per frame. `truth` is set only for the oracle backend; the
-// visual backend never reads it.
+// Which frame an input is, as a camera stamps its images: the rollout it belongs to
+// (RolloutId) and its index there. The visual backend ignores it; the oracle looks the
+// frame's ground truth up by it (ground_truth_source.h).
+struct FrameStamp {
+  uint64_t rollout = 0;
+  int index = 0;
+};
+
+// What a backend gets per frame: what a real SLAM sees.
 struct SlamInput {
-  cv::Mat rgb;                        // CV_8UC3 RGB
-  const FrameTruth* truth = nullptr;
+  cv::Mat rgb;  // CV_8UC3 RGB
+  FrameStamp stamp;
 };
 
 class SlamState;  // backend-specific, immutable once snapshotted

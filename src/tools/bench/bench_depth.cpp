@@ -139,8 +139,8 @@ nlohmann::json benchDepth(int argc, char** argv) {
         continue;
       }
       quake3::Quake3World& world = *made;
-      auto slam = makeSlam("visual", world.intrinsics(), config);
-      for (const cv::Mat& frame : world.context().frames) slam->track(SlamInput{frame, nullptr});
+      auto slam = makeSlam("visual", world.intrinsics(), config, nullptr);  // visual: no ground truth read
+      for (const cv::Mat& frame : world.context().frames) slam->track(SlamInput{frame, {}});
       const CheckpointId start = world.checkpoint();
       for (const ActionSequence& seq : sequences) {
         world.restore(start);
@@ -148,7 +148,7 @@ nlohmann::json benchDepth(int argc, char** argv) {
         const bool rotation = seq.rotationOnly();
         auto branch = slam->branch();
         for (size_t i = 0; i < rollout.frames.size(); ++i) {
-          const TrackedFrame tracked = branch->track(SlamInput{rollout.frames[i], nullptr});
+          const TrackedFrame tracked = branch->track(SlamInput{rollout.frames[i], {}});
           if (i % kFrameStride != 0) continue;
           if (rollout.truth.at(i).in_solid) {
             ++in_solid_frames;

@@ -12,6 +12,7 @@
 #include "../tool_config.h"
 #include "../thread_clock.h"
 #include "bench.h"
+#include "valerant/slam/rollout_truth.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/quake3/quake3_world.h"
 
@@ -49,7 +50,8 @@ nlohmann::json benchSlam(int argc, char** argv) {
 
   auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
   quake3::Quake3World world(map, config);
-  auto slam = makeSlam(backend, world.intrinsics(), config);
+  const auto truth = std::make_shared<RolloutTruth>();  // read by the oracle backend
+  auto slam = makeSlam(backend, world.intrinsics(), config, truth);
   const Rollout context = world.context();
   const CheckpointId start = world.checkpoint();
   std::vector<Rollout> rollouts;
@@ -57,13 +59,9 @@ nlohmann::json benchSlam(int argc, char** argv) {
     world.restore(start);
     rollouts.push_back(world.rollout(seq));
   }
-  auto track = [](Slam& s, const Rollout& r) {
-    for (size_t i = 0; i < r.frames.size(); ++i) {
-      SlamInput in;
-      in.rgb = r.frames[i];
-      if (i < r.truth.size()) in.truth = &r.truth[i];
-      s.track(in);
-    }
+  auto track = [&truth](Slam& s, const Rollout& r) {
+    const RolloutTruth::Hold held = truth->hold(r);
+    for (size_t i = 0; i < r.frames.size(); ++i) s.track(SlamInput{r.frames[i], {r.id, static_cast<int>(i)}});
   };
   track(*slam, context);
 

@@ -1,6 +1,6 @@
 #pragma once
-// The `visual` SLAM backend: monocular RGB only, it never reads
-// SlamInput::truth. Per frame:
+// The `visual` SLAM backend: monocular RGB only (SlamInput's stamp is not read). Per
+// frame:
 //   1. KLT feature tracks (feature_tracker.h).
 //   2. With a map: RANSAC PnP against the tracked map points (pnp_tracker.h). Without
 //      one, or when PnP fails: a two-view reference frame with a known pose; the
