@@ -325,7 +325,6 @@ Config ConfigDocument::parse() const {
   slam.number("depth_prior_height", c.slam.depth_prior_height, 8, 4096);
   slam.finish();
   Section exports = top.child("exports");
-  exports.number("units_per_metre", c.exports.units_per_metre, 1e-6, 1e6);
   exports.number("mesh_radius_voxels", c.exports.mesh_radius_voxels, 1.0, 100.0);
   exports.number("mesh_mu", c.exports.mesh_mu, 1.0, 100.0);
   exports.number("mesh_max_neighbours", c.exports.mesh_max_neighbours, 3, 10000);

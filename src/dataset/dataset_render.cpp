@@ -3,6 +3,7 @@
 #include "valerant/common/error.h"
 #include "valerant/world/quake3/osmesa_renderer.h"
 #include "valerant/world/quake3/reachable_floor.h"
+#include "valerant/world/quake3/units.h"
 
 namespace valerant::dataset {
 
@@ -10,7 +11,6 @@ MapRenderStats renderMapDataset(const quake3::Quake3Map& map, const std::string&
                                 const SamplingParams& params, uint64_t seed, bool keep_in_solid, int first_sequence,
                                 const FrameSink& sink, const TextureShuffle& shuffle) {
   const WorldConfig& w = config.world;
-  const double units_per_metre = config.exports.units_per_metre;
   quake3::CameraKinematics kinematics(*map.collision, w.eye_height_units, w.max_drop_units);
   std::vector<quake3::CameraState> spawns;
   std::vector<Eigen::Vector3f> cells;
@@ -60,11 +60,11 @@ MapRenderStats renderMapDataset(const quake3::Quake3Map& map, const std::string&
       r.step = static_cast<int>(i);
       r.kind = spec.kind;
       r.key = runLengthKeys(steps, last_kept, i);
-      r.eye_m = kinematics.eye(camera) / units_per_metre;
+      r.eye_m = kinematics.eye(camera) / quake3::kUnitsPerMetre;
       r.yaw_deg = camera.yaw_deg;
       r.pitch_deg = camera.pitch_deg;
       r.in_solid = in_solid;
-      sink(r, view.rgb, view.depth / units_per_metre);
+      sink(r, view.rgb, view.depth / quake3::kUnitsPerMetre);
       last_kept = i;
       ++stats.frames;
     }

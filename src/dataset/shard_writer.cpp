@@ -16,6 +16,7 @@
 #include "valerant/common/error.h"
 #include "valerant/common/output_file.h"
 #include "valerant/dataset/log_depth_code.h"
+#include "valerant/world/quake3/units.h"
 
 namespace valerant::dataset {
 namespace {
@@ -97,7 +98,7 @@ void ShardWriter::finish() {
                                {"split", meta_.split},
                                {"maps", std::vector<std::string>(maps.begin(), maps.end())},
                                {"frames", records_.size()},
-                               {"units_per_metre", meta_.units_per_metre},
+                               {"units_per_metre", quake3::kUnitsPerMetre},
                                {"eye_height_m", meta_.eye_height_m},
                                {"texture_shuffle", meta_.texture_shuffle}};
   std::vector<Entry> all;

@@ -6,16 +6,18 @@
 #include <map>
 #include <set>
 
+#include "valerant/world/quake3/units.h"
+
 namespace valerant {
 namespace {
 
-constexpr double kUnitsPerMetre = 32.0;
 constexpr double kStepHeightUnits = 18.0;  // Quake III STEPSIZE
 
 using Cell2 = std::pair<int, int>;
 
 Cell2 metreCell(double x_units, double y_units) {
-  return {static_cast<int>(std::floor(x_units / kUnitsPerMetre)), static_cast<int>(std::floor(y_units / kUnitsPerMetre))};
+  return {static_cast<int>(std::floor(x_units / quake3::kUnitsPerMetre)),
+          static_cast<int>(std::floor(y_units / quake3::kUnitsPerMetre))};
 }
 
 }  // namespace
@@ -98,7 +100,7 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   std::vector<Eigen::Isometry3d> truth_metres;
   for (size_t i = 0; i < n; ++i) {
     Eigen::Isometry3d pose = truth[i].camera_to_world;
-    pose.translation() /= kUnitsPerMetre;
+    pose.translation() /= quake3::kUnitsPerMetre;
     truth_metres.push_back(pose);
   }
   const TrajectoryError ate = trajectoryError(
@@ -115,7 +117,7 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
     if (episode.map().keyframes().empty() || !(kappa > 0) || !std::isfinite(kappa)) return t;
     const Eigen::Isometry3d& estimate0 = episode.trajectory().front();
     Sim3 floor_tie;
-    floor_tie.scale = episode.config().world.eye_height_units / kUnitsPerMetre / kappa;
+    floor_tie.scale = episode.config().world.eye_height_units / quake3::kUnitsPerMetre / kappa;
     floor_tie.rotation = truth_metres.front().linear() * estimate0.linear().transpose();
     floor_tie.translation =
         truth_metres.front().translation() - floor_tie.scale * (floor_tie.rotation * estimate0.translation());
@@ -132,7 +134,7 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   for (size_t k = 0; k < keyframes.size(); ++k) {
     for (const auto& p : keyframes[k]->points) {
       if (std::abs(p.h) >= band) continue;
-      const Eigen::Vector3d world = map_to_world.apply(p.position.cast<double>()) * kUnitsPerMetre;
+      const Eigen::Vector3d world = map_to_world.apply(p.position.cast<double>()) * quake3::kUnitsPerMetre;
       const Cell2 key = metreCell(world.x(), world.y());
       auto it = reachable_heights.find(key);
       if (it == reachable_heights.end()) continue;

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <limits>
 
+#include "valerant/world/quake3/units.h"
+
 namespace valerant {
 namespace {
-
-constexpr double kUnitsPerMetre = 32.0;
 
 pcl::PointCloud<pcl::PointXYZ>::Ptr toCloud(const std::vector<Eigen::Vector3d>& points) {
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
@@ -34,7 +34,7 @@ MapAccuracy mapAccuracy(const std::vector<Eigen::Vector3d>& map_points_m,
   MapAccuracy a;
   a.map_points = static_cast<int>(map_points_m.size());
   std::vector<Eigen::Vector3d> samples;
-  for (const auto& s : samples_units) samples.push_back(s.position.cast<double>() / kUnitsPerMetre);
+  for (const auto& s : samples_units) samples.push_back(s.position.cast<double>() / quake3::kUnitsPerMetre);
   if (samples.empty()) return a;
 
   std::vector<int> index(1);
@@ -64,7 +64,7 @@ MapAccuracy mapAccuracy(const std::vector<Eigen::Vector3d>& map_points_m,
     Eigen::Isometry3d world_to_camera = frame.camera_to_world.inverse();
     for (size_t i = 0; i < samples.size(); ++i) {
       if (seen[i]) continue;
-      const Eigen::Vector3d c = world_to_camera * (samples[i] * kUnitsPerMetre) / kUnitsPerMetre;
+      const Eigen::Vector3d c = world_to_camera * (samples[i] * quake3::kUnitsPerMetre) / quake3::kUnitsPerMetre;
       if (c.z() <= 0) continue;
       const int u = static_cast<int>(std::lround(k.fx * c.x() / c.z() + k.cx));
       const int v = static_cast<int>(std::lround(k.fy * c.y() / c.z() + k.cy));

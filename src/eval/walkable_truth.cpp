@@ -3,6 +3,8 @@
 #include <cmath>
 #include <map>
 
+#include "valerant/world/quake3/units.h"
+
 namespace valerant {
 namespace {
 
@@ -14,7 +16,7 @@ double ratio(int part, int whole) { return whole > 0 ? static_cast<double>(part)
 
 WalkableTruth evaluateWalkableTruth(const WalkableArea& walkable, const FloorGrid& grid, const MapFrame& frame,
                                     const Sim3& map_to_world_metres, const quake3::ReachableFloor& reachable,
-                                    const Eigen::Vector3f& spawn_origin, double units_per_metre) {
+                                    const Eigen::Vector3f& spawn_origin) {
   WalkableTruth t;
   const double cell = reachable.cell_size;
   // Reachable cells are centred on the spawn origin plus whole cells (the flood fill's
@@ -41,7 +43,7 @@ WalkableTruth evaluateWalkableTruth(const WalkableArea& walkable, const FloorGri
       const Eigen::Vector2d uv = cellCentre(row, col);
       if (!walkable.contains(assetFloor(uv))) continue;
       ++t.walkable_cells;
-      const Eigen::Vector3d world = map_to_world_metres.apply(frame.floorPoint(uv)) * units_per_metre;
+      const Eigen::Vector3d world = map_to_world_metres.apply(frame.floorPoint(uv)) * quake3::kUnitsPerMetre;
       t.walkable_cells_reachable += reachable_2d.count(reachableCell(world)) > 0;
     }
   }
@@ -50,7 +52,7 @@ WalkableTruth evaluateWalkableTruth(const WalkableArea& walkable, const FloorGri
   for (const auto& [key, z] : reachable_2d) {
     const Eigen::Vector3d world_metres =
         Eigen::Vector3d(spawn_origin.x() + key.first * cell, spawn_origin.y() + key.second * cell, z) /
-        units_per_metre;
+        quake3::kUnitsPerMetre;
     const Eigen::Vector2d uv =
         frame.floorCoordinates(world_to_map * (world_metres - map_to_world_metres.translation));
     const bool inside = walkable.contains(assetFloor(uv));

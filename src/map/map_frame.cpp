@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "valerant/common/error.h"
+#include "valerant/world/quake3/units.h"
 
 namespace valerant {
 
@@ -49,7 +50,7 @@ MapFrame mapFrameOf(const FloorPlane& anchor, const Eigen::Vector3d& heading, bo
     f.metres_per_unit = 1;
     f.scale_source = "metric slam";
   } else {
-    f.metres_per_unit = config.world.eye_height_units / config.exports.units_per_metre / f.eye_height;
+    f.metres_per_unit = config.world.eye_height_units / quake3::kUnitsPerMetre / f.eye_height;
     f.scale_source = "eye height";
   }
   return f;

@@ -4,11 +4,9 @@
 #include <string>
 
 #include "valerant/common/error.h"
+#include "valerant/world/quake3/units.h"
 
 namespace valerant {
-namespace {
-constexpr double kUnitsPerMetre = 32.0;
-}  // namespace
 
 std::vector<CloudPoint> backProject(const cv::Mat& rgb, const cv::Mat& depth, const cv::Mat& confidence,
                                     const CameraIntrinsics& k, const Eigen::Isometry3d& camera_to_map,
@@ -47,7 +45,7 @@ TrackedFrame OracleSlam::track(const SlamInput& input) {
   TrackedFrame f;
   f.state = TrackingState::kTracking;
   f.camera_to_map = truth.camera_to_world;
-  f.camera_to_map.translation() /= kUnitsPerMetre;
+  f.camera_to_map.translation() /= quake3::kUnitsPerMetre;
   if (!f.camera_to_map.matrix().allFinite()) {
     // A NaN pose must never reach the map: report the frame as lost instead.
     f.state = TrackingState::kLost;

@@ -25,6 +25,7 @@
 #include "cli_args.h"
 #include "valerant/dataset/dataset_render.h"
 #include "valerant/dataset/map_sets.h"
+#include "valerant/world/quake3/units.h"
 
 using namespace valerant;
 namespace fs = std::filesystem;
@@ -132,8 +133,7 @@ int main(int argc, char** argv) {
     meta.intrinsics = CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg);
     meta.seed = seed;
     meta.split = split;
-    meta.units_per_metre = config.exports.units_per_metre;
-    meta.eye_height_m = config.world.eye_height_units / config.exports.units_per_metre;
+    meta.eye_height_m = config.world.eye_height_units / quake3::kUnitsPerMetre;
     meta.texture_shuffle = texture_shuffle;
 
     std::vector<std::string> shards;

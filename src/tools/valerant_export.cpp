@@ -24,6 +24,7 @@
 #include "valerant/map/run_map.h"
 #include "valerant/world/quake3/quake3_map.h"
 #include "valerant/world/quake3/reachable_floor.h"
+#include "valerant/world/quake3/units.h"
 
 using namespace valerant;
 namespace fs = std::filesystem;
@@ -37,11 +38,10 @@ nlohmann::json walkableGroundTruth(const RunMap& run, const std::string& run_dir
   const std::string map_name = run.report.value("map", "");
   if (map_name.empty() || !fs::exists(truth_path) || !run.report.contains("spawn"))
     return {{"available", false}, {"reason", "not an engine run (no map name or gt_trajectory.txt)"}};
-  const double units_per_metre = run.config.exports.units_per_metre;
   std::vector<Eigen::Isometry3d> truth;
   for (const auto& p : readTumTrajectory(truth_path)) {
     Eigen::Isometry3d pose = p.pose;
-    pose.translation() /= units_per_metre;
+    pose.translation() /= quake3::kUnitsPerMetre;
     truth.push_back(pose);
   }
   if (truth.size() != run.trajectory.size())
@@ -58,7 +58,7 @@ nlohmann::json walkableGroundTruth(const RunMap& run, const std::string& run_dir
   const auto reachable = quake3::floodFillReachableFloor(*map->collision, spawns[spawn].origin);
   const WalkableTruth t = evaluateWalkableTruth(readWalkableJson(walkable_path),
                                                 run.floorGrid(run.config.exports.walkable_cell_fraction), run.frame,
-                                                ate.alignment, reachable, spawns[spawn].origin, units_per_metre);
+                                                ate.alignment, reachable, spawns[spawn].origin);
   return {{"available", true},
           {"walkable_precision", t.precision},
           {"walkable_recall_explored", t.recall_explored},
@@ -68,7 +68,7 @@ nlohmann::json walkableGroundTruth(const RunMap& run, const std::string& run_dir
           {"reachable_cells", t.reachable_cells},
           {"reachable_cells_explored", t.reachable_cells_explored},
           {"reachable_cells_explored_walkable", t.reachable_cells_explored_walkable},
-          {"reachable_cell_m", reachable.cell_size / units_per_metre},
+          {"reachable_cell_m", reachable.cell_size / quake3::kUnitsPerMetre},
           {"truth_metres_per_unit", ate.alignment.scale},
           {"ate_rmse_m", ate.ate_rmse}};
 }

@@ -25,13 +25,12 @@
 #include "valerant/slam/rollout_truth.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/quake3/quake3_world.h"
+#include "valerant/world/quake3/units.h"
 
 using namespace valerant;
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr double kUnitsPerMetre = 32.0;  // Quake III convention
 
 using Clock = tools::ThreadClock;
 
@@ -87,7 +86,7 @@ nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context
   for (const Rollout* r : {&context, &rollout})
     for (const FrameTruth& t : r->truth) {
       Eigen::Isometry3d metres = t.camera_to_world;
-      metres.translation() /= kUnitsPerMetre;
+      metres.translation() /= quake3::kUnitsPerMetre;
       truth.push_back(metres);
     }
   const std::vector<Eigen::Isometry3d> estimate = branch.trajectory();

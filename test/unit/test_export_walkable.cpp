@@ -125,7 +125,7 @@ TEST(ExportWalkable, PrecisionAndRecallAgainstReachableFloor) {
   const FloorGrid grid = floorWithPillar();
   const WalkableArea area = walkableArea(grid, unitFrame(), {0.0, 0, 0.0});
   const WalkableTruth t =
-      evaluateWalkableTruth(area, grid, unitFrame(), Sim3{}, reachable, Eigen::Vector3f(0, 0, 24), 32);
+      evaluateWalkableTruth(area, grid, unitFrame(), Sim3{}, reachable, Eigen::Vector3f(0, 0, 24));
   EXPECT_EQ(t.walkable_cells, 20 * 20 - 1);  // every free cell but the pillar
   EXPECT_NEAR(t.precision, 200.0 / 399.0, 1e-9);  // rows v < 0: 10 of 20
   EXPECT_EQ(t.reachable_cells, 800);

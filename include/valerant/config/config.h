@@ -119,7 +119,6 @@ struct MapConfig {
 
 // Game-engine exports of a run's map (surface mesh, walkable area, rendered views).
 struct ExportConfig {
-  double units_per_metre = 32;        // game units per metre: the eye height in metres
   double mesh_radius_voxels = 8;      // longest triangle edge, in voxel leaves
   double mesh_mu = 2.5;               // edges at most mu x the local point spacing
   int mesh_max_neighbours = 100;      // neighbours GP3 considers per point

@@ -35,7 +35,6 @@ struct ShardMeta {
   CameraIntrinsics intrinsics;
   uint64_t seed = 0;
   std::string split;  // train | evaluation (config/map_sets.yaml)
-  double units_per_metre = 32;
   double eye_height_m = 0;
   int jpeg_quality = 90;
   double texture_shuffle = 0;  // valerant_dataset --texture-shuffle (0: the maps' own textures)

@@ -37,6 +37,6 @@ struct WalkableTruth {
 // the flood fill started from (its cells are centred on it), game units.
 WalkableTruth evaluateWalkableTruth(const WalkableArea& walkable, const FloorGrid& grid, const MapFrame& frame,
                                     const Sim3& map_to_world_metres, const quake3::ReachableFloor& reachable,
-                                    const Eigen::Vector3f& spawn_origin, double units_per_metre);
+                                    const Eigen::Vector3f& spawn_origin);
 
 }  // namespace valerant

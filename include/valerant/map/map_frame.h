@@ -6,7 +6,7 @@
 //
 // How the scale is known. A monocular SLAM map has an arbitrary scale, but its camera
 // is a player's eye, a known height over the floor (world.eye_height_units /
-// exports.units_per_metre = 50 / 32 = 1.5625 m in Quake III). The anchor floor of the
+// quake3::kUnitsPerMetre = 50 / 32 = 1.5625 m in Quake III). The anchor floor of the
 // exploration grid (coverage_grid.h) measures that height in map units (kappa_0), so
 //     metres per map unit = eye height in metres / kappa_0     ("eye height").
 // A metric SLAM (the oracle: its map is the BSP frame in metres) gives the scale

@@ -2,6 +2,7 @@
 
 #include "valerant/common/error.h"
 #include "valerant/world/degradation.h"
+#include "valerant/world/quake3/units.h"
 
 namespace valerant::quake3 {
 namespace {
@@ -20,8 +21,6 @@ const SpawnPoint& pickSpawn(const std::vector<SpawnPoint>& spawns, int index, co
                      "out of range: map '" + map + "' has " + std::to_string(spawns.size()) + " spawn points");
   return spawns[index];
 }
-
-constexpr double kUnitsPerMetre = 32.0;
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "valerant/common/error.h"
+#include "valerant/world/quake3/units.h"
 
 namespace valerant::quake3 {
 namespace {
@@ -43,7 +44,7 @@ std::string noFloorWithin(float max_drop) {
 }  // namespace
 
 double ReachableFloor::areaSquareMetres() const {
-  const double side_m = cell_size / 32.0;
+  const double side_m = cell_size / kUnitsPerMetre;
   return static_cast<double>(cells.size()) * side_m * side_m;
 }
 

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <random>
 
+#include "valerant/world/quake3/units.h"
+
 namespace valerant::quake3 {
 namespace {
-
-constexpr double kUnitsPerMetre = 32.0;
 
 struct Triangle {
   Eigen::Vector3f a, b, c;
