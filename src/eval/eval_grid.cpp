@@ -12,21 +12,22 @@
 namespace valerant {
 namespace {
 
-// Extra valerant_explore options per configuration.
-const std::map<std::string, std::vector<std::string>>& configOptions() {
-  static const std::map<std::string, std::vector<std::string>> options = {
+// The configuration overrides of each named configuration: the same key=value
+// assignments a config file, `--set` or a launch file's `set:=` makes.
+const std::map<std::string, std::vector<std::string>>& configOverrides() {
+  static const std::map<std::string, std::vector<std::string>> overrides = {
       {"full", {}},
-      {"no-rf", {"--no-rf"}},
-      {"no-col", {"--no-col-pc", "--no-col-depth"}},
-      {"no-col-pc", {"--no-col-pc"}},
-      {"no-col-depth", {"--no-col-depth"}},
-      {"no-dp", {"--no-dp"}},
-      {"oracle", {"--slam", "oracle"}},
-      {"random", {"--policy", "random"}},
-      {"forward", {"--policy", "forward"}},
-      {"frontier", {"--policy", "frontier"}},
+      {"no-rf", {"floor.enabled=false"}},
+      {"no-col", {"collision.pointcloud_enabled=false", "collision.depth_enabled=false"}},
+      {"no-col-pc", {"collision.pointcloud_enabled=false"}},
+      {"no-col-depth", {"collision.depth_enabled=false"}},
+      {"no-dp", {"dead_pocket.enabled=false"}},
+      {"oracle", {"slam.backend=oracle"}},
+      {"random", {"policy.kind=random"}},
+      {"forward", {"policy.kind=forward"}},
+      {"frontier", {"policy.kind=frontier"}},
   };
-  return options;
+  return overrides;
 }
 
 }  // namespace
@@ -34,7 +35,7 @@ const std::map<std::string, std::vector<std::string>>& configOptions() {
 const std::vector<std::string>& knownEvalConfigs() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n;
-    for (const auto& [name, options] : configOptions()) n.push_back(name);
+    for (const auto& [name, overrides] : configOverrides()) n.push_back(name);
     return n;
   }();
   return names;
@@ -70,10 +71,7 @@ std::vector<EvalRun> makeEvalGrid(const std::vector<std::string>& maps, int spaw
   if (spawns < 1) throw InputError("--spawns", "must be >= 1");
   checkNames(maps, "--maps", "map");
   checkNames(configs, "--configs", "configuration");
-  for (const auto& c : configs)
-    if (!configOptions().count(c)) {
-      throw InputError("configuration '" + c + "'", "unknown (known: " + joined(knownEvalConfigs()) + ")");
-    }
+  for (const auto& c : configs) evalConfigOverrides(c);  // throws for an unknown one
   std::vector<EvalRun> runs;
   for (const auto& map : maps)
     for (int s = 0; s < spawns; ++s)
@@ -121,17 +119,21 @@ void checkEvalSpawns(const std::vector<EvalRun>& runs, const std::map<std::strin
   }
 }
 
+const std::vector<std::string>& evalConfigOverrides(const std::string& config) {
+  const auto found = configOverrides().find(config);
+  if (found == configOverrides().end())
+    throw InputError("configuration '" + config + "'", "unknown (known: " + joined(knownEvalConfigs()) + ")");
+  return found->second;
+}
+
 std::vector<std::string> exploreArguments(const EvalRun& run, const std::string& slam, int budget) {
   std::vector<std::string> args = {"--map", run.map, "--spawn", std::to_string(run.spawn), "--slam", slam,
                                    "--budget", std::to_string(budget), "--out", run.dir, "--force"};
-  const auto& extra = configOptions().at(run.config);
-  // A configuration's own --slam replaces the grid's.
-  for (size_t i = 0; i < extra.size(); ++i) {
-    if (extra[i] == "--slam" && i + 1 < extra.size()) {
-      *(std::find(args.begin(), args.end(), "--slam") + 1) = extra[++i];
-    } else {
-      args.push_back(extra[i]);
-    }
+  // valerant_explore applies --set after its flags: a configuration's own
+  // slam.backend replaces the grid's --slam.
+  for (const auto& assignment : evalConfigOverrides(run.config)) {
+    args.push_back("--set");
+    args.push_back(assignment);
   }
   return args;
 }

@@ -7,6 +7,7 @@
 
 #include "openarena_data.h"
 #include "valerant/common/error.h"
+#include "valerant/config/config.h"
 #include "valerant/eval/eval_report.h"
 
 using namespace valerant;
@@ -16,14 +17,37 @@ TEST(EvalGrid, RunsAndOptions) {
   ASSERT_EQ(runs.size(), 18u);
   EXPECT_EQ(runs[4].dir, "/o/runs/oa_dm1-s1-oracle");
   const auto oracle = exploreArguments(runs[4], "visual", 15);
-  const std::vector<std::string> expected = {"--map", "oa_dm1", "--spawn", "1", "--slam", "oracle", "--budget",
-                                             "15", "--out", "/o/runs/oa_dm1-s1-oracle", "--force"};
-  EXPECT_EQ(oracle, expected);  // the configuration's own SLAM replaces the grid's
+  const std::vector<std::string> expected = {"--map", "oa_dm1", "--spawn", "1", "--slam", "visual", "--budget", "15",
+                                             "--out", "/o/runs/oa_dm1-s1-oracle", "--force", "--set",
+                                             "slam.backend=oracle"};
+  EXPECT_EQ(oracle, expected);  // --set comes after the flags: the configuration's SLAM replaces the grid's
   const auto no_col = exploreArguments(runs[5], "visual", 15);
-  EXPECT_EQ(std::vector<std::string>(no_col.end() - 2, no_col.end()),
-            (std::vector<std::string>{"--no-col-pc", "--no-col-depth"}));
+  EXPECT_EQ(std::vector<std::string>(no_col.end() - 4, no_col.end()),
+            (std::vector<std::string>{"--set", "collision.pointcloud_enabled=false", "--set",
+                                      "collision.depth_enabled=false"}));
   EXPECT_THROW(makeEvalGrid({"oa_dm1"}, 1, {"fast"}, "/o"), InputError);
   EXPECT_THROW(makeEvalGrid({}, 1, {"full"}, "/o"), InputError);
+}
+
+TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
+  // Through the strict loader on the shipped file: a mistyped key or value fails here,
+  // not in the middle of a grid.
+  const std::string shipped = std::string(VALERANT_SOURCE_DIR) + "/config/valerant.yaml";
+  auto overridden = [&](const std::string& name) {
+    ConfigDocument doc = ConfigDocument::load(shipped);
+    for (const auto& assignment : evalConfigOverrides(name)) doc.setAssignment(assignment, name);
+    return doc.parse();
+  };
+  for (const auto& name : knownEvalConfigs()) EXPECT_NO_THROW(overridden(name)) << name;
+  EXPECT_TRUE(overridden("full").floor.enabled);
+  EXPECT_FALSE(overridden("no-rf").floor.enabled);
+  EXPECT_FALSE(overridden("no-col").collision.pointcloud_enabled);
+  EXPECT_FALSE(overridden("no-col").collision.depth_enabled);
+  EXPECT_TRUE(overridden("no-col-pc").collision.depth_enabled);
+  EXPECT_FALSE(overridden("no-dp").dead_pocket.enabled);
+  EXPECT_EQ(overridden("oracle").slam.backend, "oracle");
+  EXPECT_EQ(overridden("frontier").policy.kind, "frontier");
+  EXPECT_THROW(evalConfigOverrides("fast"), InputError);
 }
 
 TEST(EvalReport, MeansPerConfiguration) {

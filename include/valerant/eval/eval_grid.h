@@ -1,6 +1,9 @@
 #pragma once
 // The evaluation grid of valerant_eval: every (map, spawn, configuration) run, the
-// valerant_explore options that make it, and where its results live. Configurations:
+// valerant_explore options that make it, and where its results live. A configuration is
+// a list of configuration overrides (`floor.enabled=false`), passed to valerant_explore
+// as `--set`: the loader the config file, the tools' flags and the ROS graph's launch
+// arguments go through. Configurations:
 //   full      the method as configured (visual SLAM unless --slam says otherwise)
 //   no-rf     without robust floor estimation      no-dp    without dead-pocket rewind
 //   no-col    without both collision tests          no-col-pc / no-col-depth: one of them
@@ -40,7 +43,11 @@ std::map<std::string, int> installedSpawnCounts(const std::vector<std::string>& 
 // spawn index a run asks for; a map missing from `spawn_counts` is not checked.
 void checkEvalSpawns(const std::vector<EvalRun>& runs, const std::map<std::string, int>& spawn_counts);
 
-// valerant_explore arguments (without the program name) for one run.
+// The overrides (key=value) that make configuration `config`; InputError if unknown.
+const std::vector<std::string>& evalConfigOverrides(const std::string& config);
+
+// valerant_explore arguments (without the program name) for one run: the grid's map,
+// spawn, SLAM and budget as flags, then the configuration's overrides as `--set`.
 std::vector<std::string> exploreArguments(const EvalRun& run, const std::string& slam, int budget);
 
 }  // namespace valerant
