@@ -47,7 +47,8 @@ ConfigDocument loadGraphConfigDocument(const ::ros::NodeHandle& nh) {
   std::string file;
   nh.getParam(ns + "/file", file);
   ConfigDocument doc = ConfigDocument::load(file.empty() ? defaultConfigPath() : file);
-  // Launch arguments, each standing for one key of the file.
+  // Launch arguments, each standing for one key of the file. Launch files default them
+  // to "" (not given): the file's value stands.
   static const std::pair<const char*, const char*> kParameterKeys[] = {
       {"map", "world.map"},         {"spawn", "world.spawn"},
       {"seed", "world.seed"},       {"backend", "world.backend"},
@@ -61,7 +62,19 @@ ConfigDocument loadGraphConfigDocument(const ::ros::NodeHandle& nh) {
     XmlRpc::XmlRpcValue value;
     if (!nh.getParam(name, value)) continue;
     const std::string text = yamlText(value, name);
+    if (text.empty()) continue;
     doc.set(key, text, "parameter " + name + " (" + text + ")");
+  }
+  // `set`: any keys, as whitespace-separated key=value assignments (`--set` of the tools),
+  // applied last.
+  const std::string set_name = ns + "/set";
+  XmlRpc::XmlRpcValue set_value;
+  if (nh.getParam(set_name, set_value)) {
+    if (set_value.getType() != XmlRpc::XmlRpcValue::TypeString)
+      throw InputError("parameter " + set_name, "expected key=value assignments separated by spaces (a string)");
+    std::istringstream in(static_cast<std::string>(set_value));
+    for (std::string assignment; in >> assignment;)
+      doc.setAssignment(assignment, "parameter " + set_name + " (" + assignment + ")");
   }
   return doc;
 }

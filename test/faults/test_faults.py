@@ -394,6 +394,23 @@ class Faults(unittest.TestCase):
             os.killpg(master.pid, signal.SIGINT)
             master.wait(timeout=60)
 
+    def test_mistyped_key_in_the_set_launch_argument_is_an_error_naming_it(self):
+        # roslaunch's set:= passes any overrides through the same loader: a mistyped key
+        # stops the graph (every node is required) with the key and the argument named.
+        port = str(12000 + os.getpid() % 1000)
+        launch = subprocess.Popen(["roslaunch", "-p", port, "valerant", "graph.launch", "slam:=oracle",
+                                   "set:=policy.budget_steps=3 floor.enabeld=false"],
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                  env=dict(os.environ, ROS_MASTER_URI="http://localhost:" + port),
+                                  start_new_session=True)
+        try:
+            output, _ = launch.communicate(timeout=180)
+        finally:
+            if launch.poll() is None:
+                os.killpg(launch.pid, signal.SIGINT)
+                launch.wait(timeout=60)
+        self.assertIn("parameter /valerant_config/set (floor.enabeld=false): floor.enabeld: unknown key", output)
+
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)

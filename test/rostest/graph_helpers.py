@@ -69,20 +69,32 @@ def decisions(path):
     return out
 
 
+# The graph's configuration parameters and the keys they override (graph_config.cpp).
+PARAMETER_KEYS = (("map", "world.map"), ("spawn", "world.spawn"), ("seed", "world.seed"),
+                  ("backend", "world.backend"), ("width", "world.width"), ("height", "world.height"),
+                  ("slam", "slam.backend"), ("budget", "policy.budget_steps"), ("policy", "policy.kind"),
+                  ("rf", "floor.enabled"), ("col_pc", "collision.pointcloud_enabled"),
+                  ("col_depth", "collision.depth_enabled"), ("dp", "dead_pocket.enabled"))
+
+
+def yaml_text(value):
+    return ("true" if value else "false") if isinstance(value, bool) else str(value)
+
+
 def run_valerant_explore(budget, output_dir):
-    """valerant_explore (in process, no ROS) with the graph's map, spawn, seed, SLAM and
-    configuration; returns its decisions."""
+    """valerant_explore (in process, no ROS) with the graph's configuration: its file and
+    the same overrides, skipped where empty, `set` last; returns its decisions."""
     config = rospy.get_param(rospy.search_param("valerant_config"))
     tool = roslib.packages.find_node("valerant", "valerant_explore")
     if not tool:
         raise RuntimeError("valerant_explore is not built")
-    command = [tool[0], "--map", config["map"], "--spawn", str(config["spawn"]), "--seed", str(config["seed"]),
-               "--slam", config["slam"], "--budget", str(budget), "--config", config["file"],
-               "--set", "world.width=%d" % config["width"], "--set", "world.height=%d" % config["height"],
-               "--force", "--out", output_dir]
-    for switch, flag in (("rf", "--no-rf"), ("col_pc", "--no-col-pc"), ("col_depth", "--no-col-depth"),
-                         ("dp", "--no-dp")):
-        if not config[switch]:
-            command.append(flag)
+    command = [tool[0], "--force", "--out", output_dir]
+    if config.get("file"):
+        command += ["--config", config["file"]]
+    for parameter, key in PARAMETER_KEYS:
+        if yaml_text(config.get(parameter, "")):
+            command += ["--set", "%s=%s" % (key, yaml_text(config[parameter]))]
+    command += [arg for assignment in config.get("set", "").split() for arg in ("--set", assignment)]
+    command += ["--set", "policy.budget_steps=%d" % budget]  # the goal's budget, as the explorer takes it
     subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
     return decisions(os.path.join(output_dir, "decisions.jsonl"))

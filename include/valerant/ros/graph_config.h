@@ -5,6 +5,9 @@
 //   file                  config YAML (default: config/valerant.yaml of the source tree)
 //   map spawn seed slam backend width height budget policy   overrides of the file
 //   rf col_pc col_depth dp                                      ablation switches (bool)
+//   set                   any overrides: "floor.enabled=false policy.budget_steps=3"
+// A parameter that is absent or "" (the launch files' default) overrides nothing: the
+// file's value stands. `set` is applied last.
 // Every node reads the same values, so all of them build the same action sequences,
 // floor estimators and collision tests as valerant_explore with the same flags. The
 // parameters are overrides of the file's keys (config.h ConfigDocument), checked as
