@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -185,6 +186,92 @@ void readCollision(Section s, CollisionConfig& c) {
   s.finish();
 }
 
+// slam.visual: the ranges keep each value where its use makes sense (a RANSAC
+// confidence below 1, at least the points a minimal solver needs, windows of a pixel or
+// more); pairs that bound each other are checked in parse().
+void readVisualSlam(Section s, VisualSlamConfig& v) {
+  Section t = s.child("tracker");
+  t.number("max_features", v.tracker.max_features, 1, 100000);
+  t.number("redetect_below", v.tracker.redetect_below, 0, 100000);
+  t.number("corner_quality", v.tracker.corner_quality, 1e-6, 1.0);
+  t.number("min_distance_px", v.tracker.min_distance_px, 1, 1000);
+  t.number("window_px", v.tracker.window_px, 3, 101);
+  t.number("pyramid_levels", v.tracker.pyramid_levels, 0, 10);
+  t.number("iterations", v.tracker.iterations, 1, 1000);
+  t.number("max_forward_backward_px", v.tracker.max_forward_backward_px, 0.0, 100.0);
+  t.finish();
+  Section tv = s.child("two_view");
+  tv.number("ransac_threshold_px", v.two_view.ransac_threshold_px, 1e-3, 100.0);
+  tv.number("min_points", v.two_view.min_points, 5, 100000);
+  tv.number("min_point_parallax_deg", v.two_view.min_point_parallax_deg, 0.0, 90.0);
+  tv.number("min_median_parallax_deg", v.two_view.min_median_parallax_deg, 0.0, 90.0);
+  tv.number("max_reprojection_px", v.two_view.max_reprojection_px, 1e-3, 100.0);
+  tv.number("rotation_parallax_px", v.two_view.rotation_parallax_px, 0.0, 1000.0);
+  tv.finish();
+  Section p = s.child("pnp");
+  p.number("min_inliers", v.pnp.min_inliers, 4, 100000);
+  p.number("threshold_px", v.pnp.threshold_px, 1e-3, 100.0);
+  p.number("iterations", v.pnp.iterations, 1, 100000);
+  p.number("confidence", v.pnp.confidence, 0.01, 0.999999);
+  p.finish();
+  Section k = s.child("keyframe");
+  k.number("max_interval", v.keyframe.max_interval, 1, 10000);
+  k.number("min_tracked_ratio", v.keyframe.min_tracked_ratio, 0.0, 1.0);
+  k.number("min_baseline_ratio", v.keyframe.min_baseline_ratio, 0.0, 10.0);
+  k.number("rotation_only_ratio", v.keyframe.rotation_only_ratio, 0.0, 10.0);
+  k.number("min_tracks", v.keyframe.min_tracks, 5, 100000);
+  k.finish();
+  Section b = s.child("bundle_adjustment");
+  b.number("window", v.bundle_adjustment.window, 1, 1000);
+  b.number("huber_px", v.bundle_adjustment.huber_px, 1e-3, 100.0);
+  b.number("max_iterations", v.bundle_adjustment.max_iterations, 0, 1000);
+  b.number("max_error_px", v.bundle_adjustment.max_error_px, 1e-3, 1000.0);
+  b.finish();
+  Section sw = s.child("sweep");
+  sw.number("downsample", v.sweep.downsample, 1, 16);
+  sw.number("normalise_window_px", v.sweep.normalise_window_px, 1, 101);
+  sw.number("contrast_floor", v.sweep.contrast_floor, 0.0, 255.0);
+  sw.number("max_planes", v.sweep.max_planes, 4, 1024);
+  sw.number("min_planes", v.sweep.min_planes, 4, 1024);
+  sw.number("min_plane", v.sweep.min_plane, 0.0, 1024.0);
+  sw.number("plane_step_px", v.sweep.plane_step_px, 1e-3, 100.0);
+  sw.number("sources", v.sweep.sources, 1, 16);
+  sw.number("window_px", v.sweep.window_px, 1, 101);
+  sw.number("truncation", v.sweep.truncation, 1e-3, 100.0);
+  sw.number("noise_level", v.sweep.noise_level, 0.0, 100.0);
+  sw.number("min_baseline_ratio", v.sweep.min_baseline_ratio, 0.0, 10.0);
+  sw.number("max_baseline_ratio", v.sweep.max_baseline_ratio, 0.0, 10.0);
+  sw.number("max_view_angle_deg", v.sweep.max_view_angle_deg, 0.0, 180.0);
+  sw.number("min_shared_ratio", v.sweep.min_shared_ratio, 0.0, 1.0);
+  sw.number("min_shared_points", v.sweep.min_shared_points, 0, 100000);
+  sw.number("near_fraction", v.sweep.near_fraction, 1e-3, 1.0);
+  sw.number("confidence_gain", v.sweep.confidence_gain, 0.0, 1e3);
+  sw.number("max_confidence", v.sweep.max_confidence, 0.0, 1e6);
+  sw.finish();
+  Section r = s.child("relocalizer");
+  r.number("patch_px", v.relocalizer.patch_px, 3, 255);
+  r.number("max_distance", v.relocalizer.max_distance, 0.f, 256.f);
+  r.number("ratio", v.relocalizer.ratio, 0.01f, 1.f);
+  r.number("keyframes", v.relocalizer.keyframes, 1, 10000);
+  r.number("min_inliers", v.relocalizer.min_inliers, 4, 100000);
+  r.finish();
+  Section d = s.child("prior");
+  d.number("confidence_gain", v.prior.fusion.confidence_gain, 0.0, 1e3);
+  d.number("max_confidence", v.prior.fusion.max_confidence, 0.0, 1e6);
+  d.number("max_depth_m", v.prior.fusion.max_depth_m, 1e-3, 1e6);
+  d.number("min_confidence", v.prior.fusion.min_confidence, 0.0, 1e6);
+  d.number("min_scale_pixels", v.prior.fusion.min_scale_pixels, 1, 100000000);
+  d.number("view_angle_deg", v.prior.view_angle_deg, 0.0, 180.0);
+  d.finish();
+  s.number("seed", v.seed, uint64_t{0}, std::numeric_limits<uint64_t>::max());
+  s.finish();
+}
+
+// A value that must not exceed another of the same file.
+void requireAtMost(const std::string& source, const char* low_key, double low, const char* high_key, double high) {
+  if (low > high) throw InputError(source, std::string(low_key) + ": must not exceed " + high_key);
+}
+
 void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.boolean("enabled", d.enabled);
   s.number("rotation_only_steps", d.rotation_only_steps, 1, 1000);
@@ -323,6 +410,7 @@ Config ConfigDocument::parse() const {
   slam.string("depth_prior_model", c.slam.depth_prior_model);
   slam.number("depth_prior_width", c.slam.depth_prior_width, 8, 4096);
   slam.number("depth_prior_height", c.slam.depth_prior_height, 8, 4096);
+  readVisualSlam(slam.child("visual"), c.slam.visual);
   slam.finish();
   Section exports = top.child("exports");
   exports.number("mesh_radius_voxels", c.exports.mesh_radius_voxels, 1.0, 100.0);
@@ -346,6 +434,13 @@ Config ConfigDocument::parse() const {
   top.finish();
   if (c.collision.height_low >= c.collision.height_high)
     throw InputError(source, "collision.height_low: must be below collision.height_high");
+  const VisualSlamConfig& v = c.slam.visual;
+  requireAtMost(source, "slam.visual.tracker.redetect_below", v.tracker.redetect_below, "slam.visual.tracker.max_features",
+                v.tracker.max_features);
+  requireAtMost(source, "slam.visual.sweep.min_planes", v.sweep.min_planes, "slam.visual.sweep.max_planes",
+                v.sweep.max_planes);
+  requireAtMost(source, "slam.visual.sweep.min_baseline_ratio", v.sweep.min_baseline_ratio,
+                "slam.visual.sweep.max_baseline_ratio", v.sweep.max_baseline_ratio);
   return c;
 }
 

@@ -11,7 +11,7 @@ std::unique_ptr<Slam> makeSlam(const std::string& backend, const CameraIntrinsic
                                std::shared_ptr<const GroundTruthSource> truth) {
   if (backend == "oracle") return std::make_unique<OracleSlam>(intrinsics, config.slam, std::move(truth));
   if (backend == "visual")
-    return std::make_unique<VisualSlam>(intrinsics, config.slam, VisualSlamParams{}, loadDepthPrior(config.slam));
+    return std::make_unique<VisualSlam>(intrinsics, config.slam, loadDepthPrior(config.slam));
   throw InputError("slam backend '" + backend + "'", "unknown (known: visual, oracle)");
 }
 

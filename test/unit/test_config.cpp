@@ -74,6 +74,71 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_EQ(c.slam.backend, "visual");
 }
 
+TEST(Config, ShippedVisualSlamValuesAreTheBuiltInOnes) {
+  // slam.visual moved out of the code into the file: every value must be the one the
+  // SLAM was tuned with (the structs' defaults), exactly, so no decision changes.
+  const VisualSlamConfig shipped = loadConfig(kShipped).slam.visual;
+  const VisualSlamConfig built_in;
+  EXPECT_EQ(shipped.tracker.max_features, built_in.tracker.max_features);
+  EXPECT_EQ(shipped.tracker.redetect_below, built_in.tracker.redetect_below);
+  EXPECT_EQ(shipped.tracker.corner_quality, built_in.tracker.corner_quality);
+  EXPECT_EQ(shipped.tracker.min_distance_px, built_in.tracker.min_distance_px);
+  EXPECT_EQ(shipped.tracker.window_px, built_in.tracker.window_px);
+  EXPECT_EQ(shipped.tracker.pyramid_levels, built_in.tracker.pyramid_levels);
+  EXPECT_EQ(shipped.tracker.iterations, built_in.tracker.iterations);
+  EXPECT_EQ(shipped.tracker.max_forward_backward_px, built_in.tracker.max_forward_backward_px);
+  EXPECT_EQ(shipped.two_view.ransac_threshold_px, built_in.two_view.ransac_threshold_px);
+  EXPECT_EQ(shipped.two_view.min_points, built_in.two_view.min_points);
+  EXPECT_EQ(shipped.two_view.min_point_parallax_deg, built_in.two_view.min_point_parallax_deg);
+  EXPECT_EQ(shipped.two_view.min_median_parallax_deg, built_in.two_view.min_median_parallax_deg);
+  EXPECT_EQ(shipped.two_view.max_reprojection_px, built_in.two_view.max_reprojection_px);
+  EXPECT_EQ(shipped.two_view.rotation_parallax_px, built_in.two_view.rotation_parallax_px);
+  EXPECT_EQ(shipped.pnp.min_inliers, built_in.pnp.min_inliers);
+  EXPECT_EQ(shipped.pnp.threshold_px, built_in.pnp.threshold_px);
+  EXPECT_EQ(shipped.pnp.iterations, built_in.pnp.iterations);
+  EXPECT_EQ(shipped.pnp.confidence, built_in.pnp.confidence);
+  EXPECT_EQ(shipped.keyframe.max_interval, built_in.keyframe.max_interval);
+  EXPECT_EQ(shipped.keyframe.min_tracked_ratio, built_in.keyframe.min_tracked_ratio);
+  EXPECT_EQ(shipped.keyframe.min_baseline_ratio, built_in.keyframe.min_baseline_ratio);
+  EXPECT_EQ(shipped.keyframe.rotation_only_ratio, built_in.keyframe.rotation_only_ratio);
+  EXPECT_EQ(shipped.keyframe.min_tracks, built_in.keyframe.min_tracks);
+  EXPECT_EQ(shipped.bundle_adjustment.window, built_in.bundle_adjustment.window);
+  EXPECT_EQ(shipped.bundle_adjustment.huber_px, built_in.bundle_adjustment.huber_px);
+  EXPECT_EQ(shipped.bundle_adjustment.max_iterations, built_in.bundle_adjustment.max_iterations);
+  EXPECT_EQ(shipped.bundle_adjustment.max_error_px, built_in.bundle_adjustment.max_error_px);
+  EXPECT_EQ(shipped.sweep.downsample, built_in.sweep.downsample);
+  EXPECT_EQ(shipped.sweep.normalise_window_px, built_in.sweep.normalise_window_px);
+  EXPECT_EQ(shipped.sweep.contrast_floor, built_in.sweep.contrast_floor);
+  EXPECT_EQ(shipped.sweep.max_planes, built_in.sweep.max_planes);
+  EXPECT_EQ(shipped.sweep.min_planes, built_in.sweep.min_planes);
+  EXPECT_EQ(shipped.sweep.min_plane, built_in.sweep.min_plane);
+  EXPECT_EQ(shipped.sweep.plane_step_px, built_in.sweep.plane_step_px);
+  EXPECT_EQ(shipped.sweep.sources, built_in.sweep.sources);
+  EXPECT_EQ(shipped.sweep.window_px, built_in.sweep.window_px);
+  EXPECT_EQ(shipped.sweep.truncation, built_in.sweep.truncation);
+  EXPECT_EQ(shipped.sweep.noise_level, built_in.sweep.noise_level);
+  EXPECT_EQ(shipped.sweep.min_baseline_ratio, built_in.sweep.min_baseline_ratio);
+  EXPECT_EQ(shipped.sweep.max_baseline_ratio, built_in.sweep.max_baseline_ratio);
+  EXPECT_EQ(shipped.sweep.max_view_angle_deg, built_in.sweep.max_view_angle_deg);
+  EXPECT_EQ(shipped.sweep.min_shared_ratio, built_in.sweep.min_shared_ratio);
+  EXPECT_EQ(shipped.sweep.min_shared_points, built_in.sweep.min_shared_points);
+  EXPECT_EQ(shipped.sweep.near_fraction, built_in.sweep.near_fraction);
+  EXPECT_EQ(shipped.sweep.confidence_gain, built_in.sweep.confidence_gain);
+  EXPECT_EQ(shipped.sweep.max_confidence, built_in.sweep.max_confidence);
+  EXPECT_EQ(shipped.relocalizer.patch_px, built_in.relocalizer.patch_px);
+  EXPECT_EQ(shipped.relocalizer.max_distance, built_in.relocalizer.max_distance);
+  EXPECT_EQ(shipped.relocalizer.ratio, built_in.relocalizer.ratio);
+  EXPECT_EQ(shipped.relocalizer.keyframes, built_in.relocalizer.keyframes);
+  EXPECT_EQ(shipped.relocalizer.min_inliers, built_in.relocalizer.min_inliers);
+  EXPECT_EQ(shipped.prior.fusion.confidence_gain, built_in.prior.fusion.confidence_gain);
+  EXPECT_EQ(shipped.prior.fusion.max_confidence, built_in.prior.fusion.max_confidence);
+  EXPECT_EQ(shipped.prior.fusion.max_depth_m, built_in.prior.fusion.max_depth_m);
+  EXPECT_EQ(shipped.prior.fusion.min_confidence, built_in.prior.fusion.min_confidence);
+  EXPECT_EQ(shipped.prior.fusion.min_scale_pixels, built_in.prior.fusion.min_scale_pixels);
+  EXPECT_EQ(shipped.prior.view_angle_deg, built_in.prior.view_angle_deg);
+  EXPECT_EQ(shipped.seed, built_in.seed);
+}
+
 TEST(Config, EmptyOrTruncatedFileIsAnErrorNamingTheMissingKey) {
   try {
     parseConfig("", "empty.yaml");
@@ -200,6 +265,23 @@ TEST(Config, OutOfRangeNamesFileKeyAndRange) {
             "test.yaml: slam.backend: 'orb' is not one of: oracle, visual");
   EXPECT_EQ(errorOf("collision:\n  height_low: 1.5\n"),
             "test.yaml: collision.height_low: must be below collision.height_high");
+  EXPECT_EQ(errorOf("slam:\n  visual:\n    pnp:\n      confidence: 1.5\n"),
+            "test.yaml: slam.visual.pnp.confidence: value 1.5 outside [0.01, 0.999999]");
+  EXPECT_EQ(errorOf("slam:\n  visual:\n    sweep:\n      min_planes: 80\n"),
+            "test.yaml: slam.visual.sweep.min_planes: must not exceed slam.visual.sweep.max_planes");
+  EXPECT_EQ(errorOf("slam:\n  visual:\n    sweep:\n      windw_px: 5\n"),
+            "test.yaml: slam.visual.sweep.windw_px: unknown key");
+  ConfigDocument doc = ConfigDocument::fromText(overShipped(""), "test.yaml");
+  doc.setAssignment("slam.visual.relocalizer.ratio=0.7", "--set slam.visual.relocalizer.ratio=0.7");
+  EXPECT_EQ(doc.parse().slam.visual.relocalizer.ratio, 0.7f);
+  doc.setAssignment("slam.visual.seed=-1", "--set slam.visual.seed=-1");
+  try {
+    doc.parse();
+    FAIL() << "a negative seed was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--set slam.visual.seed=-1: slam.visual.seed: expected a number", 0), 0u)
+        << e.what();
+  }
 }
 
 TEST(Config, MissingFileAndBadYamlAreNamed) {

@@ -11,7 +11,6 @@
 #include "valerant/slam/visual/visual_slam.h"
 
 using namespace valerant;
-using visual::PriorFusionParams;
 
 namespace {
 
@@ -70,7 +69,7 @@ TEST(PriorFusion, TurningInPlaceWithAPriorMakesCloudOnlyViews) {
   // 20 deg of turning: frames 0, 13, 26, 39, 52 (20 deg = 12.67 frames).
   const auto prior = std::make_shared<DepthPrior>(std::string(VALERANT_SOURCE_DIR) + "/test/data/depth_prior_linear.onnx",
                                                   cv::Size(128, 96));
-  VisualSlam slam(test::BoxRoom::camera(), SlamConfig{}, VisualSlamParams{}, prior);
+  VisualSlam slam(test::BoxRoom::camera(), SlamConfig{}, prior);
   const test::BoxRoom room({-3, -1.6, -3}, {3.5, 1.6, 14});
   std::vector<int> views;
   for (int i = 0; i <= 57; ++i) {

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "valerant/config/visual_slam_config.h"
+
 namespace valerant {
 
 // WM-like image degradations for stress runs (all 0 = off, the default).
@@ -147,6 +149,7 @@ struct SlamConfig {
   std::string depth_prior_model = "models/depth_prior.onnx";  // relative: to the package folder
   int depth_prior_width = 128;     // the net's input size: OpenCV 4.6 cannot read it from the file
   int depth_prior_height = 96;
+  VisualSlamConfig visual;         // the visual backend's tuning (visual_slam_config.h)
 };
 
 struct Config {

@@ -46,20 +46,18 @@ cv::Mat unknown(const cv::Size& size, float value) { return cv::Mat(size, CV_32F
 
 }  // namespace
 
-VisualSlam::VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config, const VisualSlamParams& params,
+VisualSlam::VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config,
                        std::shared_ptr<const DepthPrior> prior)
     : intrinsics_(intrinsics),
-      sweep_intrinsics_(visual::downsampled(intrinsics, std::max(1, params.sweep.downsample))),
+      sweep_intrinsics_(visual::downsampled(intrinsics, std::max(1, config.visual.sweep.downsample))),
       config_(config),
-      params_(params),
       prior_(std::move(prior)),
-      state_(params.tracker) {
+      state_(config.visual.tracker) {
   if (intrinsics.width < 16 || intrinsics.height < 16 || !(intrinsics.fx > 0) || !(intrinsics.fy > 0))
     throw InputError("visual SLAM intrinsics", "need a positive focal length and an image of at least 16x16");
-  if (params.sweep.downsample < 1 || params.sweep.min_planes < 4 || params.sweep.max_planes < params.sweep.min_planes ||
-      params.sweep.sources < 1)
-    throw InputError("visual SLAM plane sweep parameters",
-                     "need downsample >= 1, 4 <= min_planes <= max_planes, sources >= 1");
+  const PlaneSweepParams& sweep = config.visual.sweep;
+  if (sweep.downsample < 1 || sweep.min_planes < 4 || sweep.max_planes < sweep.min_planes || sweep.sources < 1)
+    throw InputError("slam.visual.sweep", "needs downsample >= 1, 4 <= min_planes <= max_planes, sources >= 1");
 }
 
 TrackedFrame VisualSlam::track(const SlamInput& input) {
@@ -71,15 +69,15 @@ TrackedFrame VisualSlam::track(const SlamInput& input) {
   frame.index = static_cast<int>(s.frames.size());
   frame.rgb = input.rgb.clone();  // kept by keyframes: must not alias the caller's buffer
   cv::cvtColor(frame.rgb, frame.gray, cv::COLOR_RGB2GRAY);
-  frame.sweep = visual::sweepImage(frame.gray, params_.sweep);
-  seedRng(params_.seed, frame.index);
+  frame.sweep = visual::sweepImage(frame.gray, config_.visual.sweep);
+  seedRng(config_.visual.seed, frame.index);
 
   s.tracker.track(frame.gray);
   const Eigen::Isometry3d last = s.frames.empty() ? Eigen::Isometry3d::Identity() : framePose(frame.index - 1);
   frame.pose = last;
   TrackedFrame out;
   bool ok = false;
-  if (static_cast<int>(s.tracker.tracks().size()) >= params_.keyframe.min_tracks) {
+  if (static_cast<int>(s.tracker.tracks().size()) >= config_.visual.keyframe.min_tracks) {
     if (s.mode == Mode::kMapped) {
       ok = trackMapped(frame, out);
       if (!ok) startReference(frame, last, true);
@@ -95,7 +93,7 @@ TrackedFrame VisualSlam::track(const SlamInput& input) {
     out = TrackedFrame();
     if (!s.map.keyframes.empty()) s.relocalizing = true;
     if (!(s.relocalizing && relocalize(frame, out)))
-      out.state = first && static_cast<int>(s.tracker.tracks().size()) >= params_.keyframe.min_tracks
+      out.state = first && static_cast<int>(s.tracker.tracks().size()) >= config_.visual.keyframe.min_tracks
                       ? TrackingState::kInitializing
                       : TrackingState::kLost;
   }
@@ -146,7 +144,7 @@ bool VisualSlam::trackMapped(Frame& frame, TrackedFrame& out) {
     which.push_back(i);
   }
   const int n = frame.index;
-  const auto pnp = visual::solvePnp(object, image, intrinsics_, params_.pnp);
+  const auto pnp = visual::solvePnp(object, image, intrinsics_, config_.visual.pnp);
   if (!pnp) return false;
 
   // Outlier tracks slipped or were mis-triangulated: drop them.
@@ -168,15 +166,15 @@ bool VisualSlam::trackMapped(Frame& frame, TrackedFrame& out) {
   // the last frame. Its translation is then noise: hold the position. The threshold
   // doubles while already turning, so that noise does not flicker the flag.
   const double moved = (frame.pose.translation() - framePose(n - 1).translation()).norm() / s.median_depth;
-  out.rotation_only = moved < params_.keyframe.rotation_only_ratio * (s.rotating ? 2.0 : 1.0);
+  out.rotation_only = moved < config_.visual.keyframe.rotation_only_ratio * (s.rotating ? 2.0 : 1.0);
   if (out.rotation_only) frame.pose.translation() = framePose(n - 1).translation();
   out.state = TrackingState::kTracking;
 
-  const bool due = n - s.keyframe_frame >= params_.keyframe.max_interval ||
-                   inlier_ids.size() < params_.keyframe.min_tracked_ratio * s.inliers_at_keyframe;
+  const bool due = n - s.keyframe_frame >= config_.visual.keyframe.max_interval ||
+                   inlier_ids.size() < config_.visual.keyframe.min_tracked_ratio * s.inliers_at_keyframe;
   const Eigen::Vector3d newest = s.map.keyframes.back()->camera_to_map.translation();
   const double baseline = (frame.pose.translation() - newest).norm() / s.median_depth;
-  if (!out.rotation_only && due && baseline >= params_.keyframe.min_baseline_ratio) {
+  if (!out.rotation_only && due && baseline >= config_.visual.keyframe.min_baseline_ratio) {
     makeKeyframe(frame);
     out.keyframe = true;
   }
@@ -190,7 +188,7 @@ bool VisualSlam::trackReference(Frame& frame, TrackedFrame& out) {
     // Map points may still be in view (a short PnP failure): try them first.
     const auto mapped = std::count_if(tracks.begin(), tracks.end(),
                                       [&](const Track& t) { return t.point >= 0 && s.map.points[t.point]; });
-    if (mapped >= params_.pnp.min_inliers && trackMapped(frame, out)) {
+    if (mapped >= config_.visual.pnp.min_inliers && trackMapped(frame, out)) {
       s.mode = Mode::kMapped;
       s.pending.clear();
       for (Track& t : tracks) t.referenced = false;
@@ -207,13 +205,13 @@ bool VisualSlam::trackReference(Frame& frame, TrackedFrame& out) {
     b.push_back(tracks[i].px);
     which.push_back(i);
   }
-  const auto rotation = visual::estimateRotation(a, b, intrinsics_, params_.two_view.ransac_threshold_px,
-                                                 params_.keyframe.min_tracks);
-  const bool parallax = !rotation || rotation->median_parallax_px >= params_.two_view.rotation_parallax_px;
+  const auto rotation = visual::estimateRotation(a, b, intrinsics_, config_.visual.two_view.ransac_threshold_px,
+                                                 config_.visual.keyframe.min_tracks);
+  const bool parallax = !rotation || rotation->median_parallax_px >= config_.visual.two_view.rotation_parallax_px;
   std::optional<Eigen::Matrix3d> b_from_a;
   if (rotation) b_from_a = rotation->b_from_a;
   if (parallax) {
-    const auto two_view = visual::initializeTwoView(a, b, intrinsics_, params_.two_view);
+    const auto two_view = visual::initializeTwoView(a, b, intrinsics_, config_.visual.two_view);
     if (two_view && two_view->ready) {
       initializeMap(frame, out, *two_view, a, b, which);
       return true;
@@ -239,7 +237,7 @@ bool VisualSlam::trackReference(Frame& frame, TrackedFrame& out) {
   // A turning camera loses its reference tracks: move the reference along, unless a
   // translation is building parallax (then keep it while enough tracks remain).
   const int remaining = static_cast<int>(a.size());
-  const bool stale = remaining < 2 * params_.two_view.min_points ||
+  const bool stale = remaining < 2 * config_.visual.two_view.min_points ||
                      (!parallax && remaining < s.reference.tracks_at_start / 2);
   if (stale) startReference(frame, frame.pose, false);
   return true;
@@ -316,7 +314,7 @@ void VisualSlam::initializeMap(Frame& frame, TrackedFrame& out, const visual::Tw
     const Track& t = tracks[which[two_view.indices[j]]];
     if (t.point >= 0 && s.map.points[t.point]) seen_a.emplace_back(t.point, a[two_view.indices[j]]);
   }
-  images_a->described = visual::describePoints(reference_grey, seen_a, params_.relocalizer);
+  images_a->described = visual::describePoints(reference_grey, seen_a, config_.visual.relocalizer);
   describeKeyframe(frame);
   s.relocalizing = false;
   resectPending(ka);
@@ -328,7 +326,7 @@ void VisualSlam::initializeMap(Frame& frame, TrackedFrame& out, const visual::Tw
   const auto& kf_a = *s.map.keyframes[ka];
   const visual::SweepDepth d =
       visual::planeSweep({images_a->sweep, kf_a.camera_to_map}, {{frame.sweep, frame.pose}}, sweep_intrinsics_,
-                         params_.sweep.near_fraction * s.near_depth, params_.sweep);
+                         config_.visual.sweep.near_fraction * s.near_depth, config_.visual.sweep);
   cv::resize(d.depth, images_a->depth, frame.rgb.size(), 0, 0, cv::INTER_NEAREST);
   cv::resize(d.confidence, images_a->confidence, frame.rgb.size(), 0, 0, cv::INTER_NEAREST);
 
@@ -354,7 +352,7 @@ void VisualSlam::resectPending(int reference_keyframe) {
       object.emplace_back(q.x(), q.y(), q.z());
       image.push_back(px);
     }
-    const auto pnp = visual::solvePnp(object, image, intrinsics_, params_.pnp);
+    const auto pnp = visual::solvePnp(object, image, intrinsics_, config_.visual.pnp);
     if (pnp) s.frames[p.frame] = FramePose{reference_keyframe, anchor.inverse() * pnp->camera_to_map};
   }
   s.pending.clear();
@@ -379,8 +377,8 @@ void VisualSlam::makeKeyframe(Frame& frame) {
       t.anchor_px = t.px;
     }
   }
-  const visual::TriangulationLimits limits{params_.two_view.min_point_parallax_deg,
-                                           params_.two_view.max_reprojection_px};
+  const visual::TriangulationLimits limits{config_.visual.two_view.min_point_parallax_deg,
+                                           config_.visual.two_view.max_reprojection_px};
   for (const auto& [anchor, indices] : by_anchor) {
     std::vector<cv::Point2f> pa, pb;
     for (size_t i : indices) {
@@ -409,7 +407,7 @@ void VisualSlam::describeKeyframe(Frame& frame) {
   std::vector<std::pair<int, cv::Point2f>> seen;
   for (const Track& t : state_.tracker.tracks())
     if (t.point >= 0 && state_.map.points[t.point]) seen.emplace_back(t.point, t.px);
-  frame.new_keyframe->described = visual::describePoints(frame.gray, seen, params_.relocalizer);
+  frame.new_keyframe->described = visual::describePoints(frame.gray, seen, config_.visual.relocalizer);
 }
 
 bool VisualSlam::relocalize(Frame& frame, TrackedFrame& out) {
@@ -419,10 +417,10 @@ bool VisualSlam::relocalize(Frame& frame, TrackedFrame& out) {
   for (const Track& t : tracks) corners.push_back(t.px);
   std::vector<const visual::PointDescriptors*> keyframes;
   for (int k = static_cast<int>(s.map.keyframes.size()) - 1;
-       k >= 0 && static_cast<int>(keyframes.size()) < params_.relocalizer.keyframes; --k)
+       k >= 0 && static_cast<int>(keyframes.size()) < config_.visual.relocalizer.keyframes; --k)
     keyframes.push_back(&s.map.keyframes[k]->images->described);
-  const auto found = visual::relocalize(frame.gray, corners, keyframes, s.map, intrinsics_, params_.relocalizer,
-                                        params_.pnp);
+  const auto found = visual::relocalize(frame.gray, corners, keyframes, s.map, intrinsics_, config_.visual.relocalizer,
+                                        config_.visual.pnp);
   if (!found) return false;
   // Associations made before the loss are not trusted; the matches replace them.
   for (Track& t : tracks) {
@@ -449,7 +447,7 @@ bool VisualSlam::relocalize(Frame& frame, TrackedFrame& out) {
 void VisualSlam::bundleAdjust(Frame& frame) {
   State& s = state_;
   const int n = static_cast<int>(s.map.keyframes.size());
-  const int first = std::max(0, n - params_.bundle_adjustment.window);
+  const int first = std::max(0, n - config_.visual.bundle_adjustment.window);
   std::map<int, const MapPoint*> points;
   for (int k = first; k < n; ++k)
     for (int id : s.map.keyframes[k]->images->points)
@@ -474,7 +472,7 @@ void VisualSlam::bundleAdjust(Frame& frame) {
     distance = (poses.at(*free.begin()).translation() - anchor).norm();
   }
 
-  auto result = visual::localBundleAdjustment(poses, free, points, intrinsics_, params_.bundle_adjustment);
+  auto result = visual::localBundleAdjustment(poses, free, points, intrinsics_, config_.visual.bundle_adjustment);
   if (scale_free) {
     const double after = (result.poses.at(*free.begin()).translation() - anchor).norm();
     const double scale = after > 0 ? distance / after : 1.0;
@@ -517,23 +515,23 @@ void VisualSlam::denseDepth(const Frame& frame, TrackedFrame& out) const {
     ++tracked;
     for (const Observation& o : s.map.points[t.point]->observations) ++shared[o.keyframe];
   }
-  const int min_shared = std::max(params_.sweep.min_shared_points,
-                                  static_cast<int>(std::ceil(params_.sweep.min_shared_ratio * tracked)));
+  const PlaneSweepParams& sweep = config_.visual.sweep;
+  const int min_shared =
+      std::max(sweep.min_shared_points, static_cast<int>(std::ceil(sweep.min_shared_ratio * tracked)));
   const Eigen::Vector3d centre = frame.pose.translation(), axis = frame.pose.linear().col(2);
-  const double min_cos = std::cos(params_.sweep.max_view_angle_deg * M_PI / 180.0);
+  const double min_cos = std::cos(sweep.max_view_angle_deg * M_PI / 180.0);
   std::vector<visual::SweepView> sources;
-  for (auto it = shared.rbegin(); it != shared.rend() && static_cast<int>(sources.size()) < params_.sweep.sources;
-       ++it) {
+  for (auto it = shared.rbegin(); it != shared.rend() && static_cast<int>(sources.size()) < sweep.sources; ++it) {
     const visual::Keyframe& kf = *s.map.keyframes[it->first];
     if (kf.images->frame == frame.index || it->second < min_shared) continue;
     const double baseline = (kf.camera_to_map.translation() - centre).norm() / s.median_depth;
-    if (baseline < params_.sweep.min_baseline_ratio || baseline > params_.sweep.max_baseline_ratio) continue;
+    if (baseline < sweep.min_baseline_ratio || baseline > sweep.max_baseline_ratio) continue;
     if (kf.camera_to_map.linear().col(2).dot(axis) < min_cos) continue;
     sources.push_back({kf.images->sweep, kf.camera_to_map});
   }
   if (sources.empty()) return;
   const visual::SweepDepth d = visual::planeSweep({frame.sweep, frame.pose}, sources, sweep_intrinsics_,
-                                                  params_.sweep.near_fraction * s.near_depth, params_.sweep);
+                                                  sweep.near_fraction * s.near_depth, sweep);
   cv::resize(d.depth, out.depth, size, 0, 0, cv::INTER_NEAREST);
   cv::resize(d.confidence, out.confidence, size, 0, 0, cv::INTER_NEAREST);
 }
@@ -546,7 +544,8 @@ bool VisualSlam::applyPrior(const Frame& frame, TrackedFrame& out) {
     const CloudEntry& last = s.clouds.back();
     const Eigen::Isometry3d& pose =
         last.keyframe >= 0 ? s.map.keyframes[last.keyframe]->camera_to_map : last.view->camera_to_map;
-    turned = pose.linear().col(2).dot(frame.pose.linear().col(2)) < std::cos(params_.prior.view_angle_deg * M_PI / 180.0);
+    turned = pose.linear().col(2).dot(frame.pose.linear().col(2)) <
+             std::cos(config_.visual.prior.view_angle_deg * M_PI / 180.0);
   }
   const bool untriangulated = out.rotation_only || s.mode != Mode::kMapped;
   const bool view = !out.keyframe && untriangulated && turned;
@@ -554,7 +553,7 @@ bool VisualSlam::applyPrior(const Frame& frame, TrackedFrame& out) {
   if (!(out.keyframe || view || (blind && !out.rotation_only))) return false;
 
   const DepthPrediction p = prior_->predict(frame.rgb).resized(frame.rgb.size());
-  const visual::PriorFusionParams& fusion = params_.prior.fusion;
+  const PriorFusionParams& fusion = config_.visual.prior.fusion;
   if (const auto scale = visual::priorScale(out.depth, out.confidence, p.depth_m, fusion)) s.map_per_metre = *scale;
   if (!(s.map_per_metre > 0)) {
     // Before the sweep has measured the scale: the map's convention, median scene depth
@@ -642,7 +641,7 @@ std::vector<KeyframeCloud> VisualSlam::keyframeClouds(int first) const {
       cloud.frame = view->frame;
       cloud.camera_to_map = view->camera_to_map;
       cloud.points = backProject(view->rgb, view->depth, view->confidence, intrinsics_, view->camera_to_map,
-                                 params_.sweep.downsample);
+                                 config_.visual.sweep.downsample);
       out.push_back(std::move(cloud));
       continue;
     }
@@ -655,7 +654,7 @@ std::vector<KeyframeCloud> VisualSlam::keyframeClouds(int first) const {
     // assume MASt3R's pixel-dense clouds; thinning ours further starves the floor fit.
     if (!kf.images->depth.empty())
       cloud.points = backProject(kf.images->rgb, kf.images->depth, kf.images->confidence, intrinsics_,
-                                 kf.camera_to_map, params_.sweep.downsample);
+                                 kf.camera_to_map, config_.visual.sweep.downsample);
     out.push_back(std::move(cloud));
   }
   return out;

@@ -8,7 +8,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "valerant/slam/visual/visual_slam_params.h"
+#include "valerant/config/visual_slam_config.h"
 
 namespace valerant::visual {
 

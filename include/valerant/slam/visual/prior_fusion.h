@@ -11,18 +11,13 @@
 //      paper's cut), capped at max_confidence. Pixels beyond max_depth_m (sky is
 //      trained as 80 m) get none.
 //   3. Per pixel the more confident estimate wins; both are then in map units.
+// The parameters are slam.visual.prior of the configuration (PriorFusionParams).
 #include <opencv2/core.hpp>
 #include <optional>
 
-namespace valerant::visual {
+#include "valerant/config/visual_slam_config.h"
 
-struct PriorFusionParams {
-  double confidence_gain = 0.6;
-  double max_confidence = 20.0;
-  double max_depth_m = 40.0;
-  double min_confidence = 4.0;   // sweep pixels trusted for the scale
-  int min_scale_pixels = 200;    // fewer: keep the last scale
-};
+namespace valerant::visual {
 
 // Map units per metre from the pixels where both exist, or nullopt with too few.
 std::optional<double> priorScale(const cv::Mat& sweep_depth, const cv::Mat& sweep_confidence, const cv::Mat& prior_m,

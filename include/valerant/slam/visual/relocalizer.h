@@ -13,7 +13,7 @@
 
 #include "valerant/common/camera.h"
 #include "valerant/slam/visual/slam_map.h"
-#include "valerant/slam/visual/visual_slam_params.h"
+#include "valerant/config/visual_slam_config.h"
 
 namespace valerant::visual {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "valerant/common/camera.h"
-#include "valerant/slam/visual/visual_slam_params.h"
+#include "valerant/config/visual_slam_config.h"
 
 namespace valerant::visual {
 

@@ -39,14 +39,15 @@
 #include "valerant/slam/visual/feature_tracker.h"
 #include "valerant/slam/visual/slam_map.h"
 #include "valerant/slam/visual/two_view_initializer.h"
-#include "valerant/slam/visual/visual_slam_params.h"
+#include "valerant/config/visual_slam_config.h"
 
 namespace valerant {
 
 class VisualSlam : public Slam {
  public:
-  // `prior`: the learned depth prior, shared by every branch; nullptr = none.
-  VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config, const VisualSlamParams& params = {},
+  // Tuned by config.visual; `prior`: the learned depth prior, shared by every branch;
+  // nullptr = none.
+  VisualSlam(const CameraIntrinsics& intrinsics, const SlamConfig& config,
              std::shared_ptr<const DepthPrior> prior = nullptr);
 
   // Throws InputError for a frame that is not CV_8UC3 of the intrinsics' size.
@@ -143,7 +144,6 @@ class VisualSlam : public Slam {
   CameraIntrinsics intrinsics_;
   CameraIntrinsics sweep_intrinsics_;
   SlamConfig config_;
-  VisualSlamParams params_;
   std::shared_ptr<const DepthPrior> prior_;
   State state_;
 };

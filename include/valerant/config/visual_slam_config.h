@@ -1,10 +1,11 @@
 #pragma once
-// Tuning of the visual (monocular RGB) SLAM backend. All values are [ours]: the paper
-// uses MASt3R-SLAM and gives none of them. They were chosen on engine rollouts at
-// 320x240 with a 90 deg horizontal field of view; pixel values are at that size.
+// Tuning of the visual (monocular RGB) SLAM backend: the slam.visual section of the
+// configuration (config/valerant.yaml names every value; config.cpp checks its range).
+// All values are [ours]: the paper uses MASt3R-SLAM and gives none of them. They were
+// chosen on engine rollouts at 320x240 with a 90 deg horizontal field of view; pixel
+// values are at that size. The defaults here are the shipped file's values, for code
+// that builds a SLAM without a file (unit tests); a test checks that they agree.
 #include <cstdint>
-
-#include "valerant/slam/visual/prior_fusion.h"
 
 namespace valerant {
 
@@ -86,16 +87,25 @@ struct RelocalizerParams {
   int min_inliers = 30;       // PnP inliers to accept a relocalisation
 };
 
+// How the visual SLAM fuses the learned depth prior with its plane sweep (prior_fusion.h).
+struct PriorFusionParams {
+  double confidence_gain = 0.6;
+  double max_confidence = 20.0;
+  double max_depth_m = 40.0;
+  double min_confidence = 4.0;   // sweep pixels trusted for the scale
+  int min_scale_pixels = 200;    // fewer: keep the last scale
+};
+
 // Use of the learned depth prior (slam.depth_prior: learned), prior_fusion.h.
 struct DepthPriorParams {
-  visual::PriorFusionParams fusion;
+  PriorFusionParams fusion;
   // A frame the sweep cannot triangulate (turning in place, before the map starts)
   // becomes a cloud-only view when its optical axis has turned this far from the last
   // cloud's: a 90 deg field of view seen every 20 deg overlaps by 78 %.
   double view_angle_deg = 20.0;
 };
 
-struct VisualSlamParams {
+struct VisualSlamConfig {
   FeatureTrackerParams tracker;
   TwoViewParams two_view;
   PnpParams pnp;
