@@ -152,7 +152,7 @@ class WorldModelServer {
     f.key.rotation_only = rotation_only;
     f.key.index = static_cast<uint32_t>(i);
     f.key.count = static_cast<uint32_t>(r.frames.empty() ? r.truth.size() : r.frames.size());
-    if (with_images && i < r.frames.size()) f.rgb = valerant::bridge::toImageMsg(r.frames[i]);
+    if (with_images && i < r.frames.size()) f.rgb = valerant::bridge::toCompressedImageMsg(r.frames[i]);
     if (i < r.truth.size()) f.truth.push_back(valerant::bridge::toMsg(r.truth[i], with_images && with_depth_));
     return f;
   }
