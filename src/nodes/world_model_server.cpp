@@ -1,6 +1,7 @@
 // world_model_server: serves a WorldModel (backend quake3 or bag) to the graph.
-//   action   ~rollout {checkpoint_id, candidate}: frames stream on branch/<c>/frames
-//            (and branch/<c>/image for viewers); the result carries ids and truth poses
+//   action   ~rollout {checkpoint_id, candidate}: frames stream on branch/<c>/frames as
+//            lossless PNG (and raw on branch/<c>/image for viewers); the result carries
+//            ids and truth poses
 //   services ~checkpoint ~restore ~drop ~commit ~reset ~get_rollout
 //   latched  ~camera_info, ~context (the episode's starting frames, for recordings)
 //   periodic camera/image (committed view), tf gt_world -> gt_camera (engine truth)
