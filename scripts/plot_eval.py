@@ -34,6 +34,11 @@ def colours(configs):
     return {c: cycle[i % len(cycle)] for i, c in enumerate(configs)}
 
 
+def legend(axes):
+    """Right of the plot, where it never hides a line or bar."""
+    axes.legend(title="configuration", fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1))
+
+
 def save(figure, folder, name):
     figure.tight_layout()
     for extension in ("png", "svg"):
@@ -45,7 +50,7 @@ def save(figure, folder, name):
 
 
 def plot_curves(spec, colour, folder):
-    figure, axes = plt.subplots(figsize=(7.2, 4.2))
+    figure, axes = plt.subplots(figsize=(8.4, 4.2))
     for config, values in spec["series"].items():
         steps = list(range(1, len(values) + 1))
         axes.plot(steps, values, marker="o", markersize=3, linewidth=1.8, color=colour[config], label=config)
@@ -55,15 +60,16 @@ def plot_curves(spec, colour, folder):
     # Steps are whole numbers: a tick per step up to 20 steps, fewer whole ones beyond.
     steps = max([len(values) for values in spec["series"].values()] + [1])
     axes.xaxis.set_major_locator(MultipleLocator(1) if steps <= 20 else MaxNLocator(integer=True))
+    axes.xaxis.set_minor_locator(MultipleLocator(1))
     axes.set_xlim(left=0.5)
     axes.set_ylim(bottom=0)
     axes.grid(True, alpha=0.3)
-    axes.legend(title="configuration", fontsize="small")
+    legend(axes)
     save(figure, folder, spec["name"])
 
 
 def plot_bars(spec, configs, colour, folder):
-    figure, axes = plt.subplots(figsize=(max(4.8, 1.1 * len(configs) + 2.2), 4.0))
+    figure, axes = plt.subplots(figsize=(max(6.0, 1.1 * len(configs) + 3.4), 4.0))
     recorded = [v for v in spec["values"].values() if v is not None]
     for i, config in enumerate(configs):
         value = spec["values"].get(config)
@@ -82,7 +88,7 @@ def plot_bars(spec, configs, colour, folder):
     axes.set_ylim(0, max(recorded + [0]) * 1.15 or 1)
     axes.grid(True, axis="y", alpha=0.3)
     if recorded:
-        axes.legend(title="configuration", fontsize="small")
+        legend(axes)
     save(figure, folder, spec["name"])
 
 

@@ -16,8 +16,9 @@ namespace {
 // The rotation of a received pose must be orthonormal to this tolerance.
 constexpr double kRotationTolerance = 1e-6;
 
-// zlib level 1: the size of level 3 within a few per cent at a fraction of its time
-// (a rollout's frames are encoded on the world model server's per-frame path).
+// zlib level 1: 6 % larger than level 3 at 60 % of its time (320x240 game frames:
+// 101 KB in 4.5 ms against 96 KB in 7.7 ms); the world model server encodes every
+// frame of every rollout on its per-frame path.
 constexpr int kPngCompression = 1;
 
 // A depth image travels as the bytes of its floats; the format names them little-endian.
