@@ -9,7 +9,7 @@ plots.json: {"configs": [names, in the report's order],
                          "series": {config: [value at step 1, 2, ...]}}],
              "bars":   [{"name", "title", "ylabel", "values": {config: value or null}}]}
 A null value is a figure no run recorded: its bar is absent and labelled n/a.
-Exit status 2 with a message naming this script when matplotlib is missing."""
+Exit status 1 with a message naming this script when matplotlib is missing."""
 import json
 import os
 import sys
