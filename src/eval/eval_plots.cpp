@@ -12,7 +12,7 @@
 
 #include "valerant/common/error.h"
 #include "valerant/common/output_file.h"
-#include "valerant/config/config.h"
+#include "valerant/config/package_dir.h"
 
 extern char** environ;
 
@@ -80,7 +80,7 @@ nlohmann::json evalPlotData(const std::vector<ConfigSummary>& summaries) {
                              &ConfigSummary::observed_m2_per_clean_step)})}};
 }
 
-std::string plotScriptPath() { return sourceTreePath("scripts/plot_eval.py"); }
+std::string plotScriptPath() { return packageFilePath("scripts/plot_eval.py"); }
 
 void drawEvalPlots(const std::vector<ConfigSummary>& summaries, const std::string& folder, const std::string& script,
                    const std::string& python) {

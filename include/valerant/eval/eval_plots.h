@@ -16,7 +16,8 @@ namespace valerant {
 // bar values, null where no run records the figure.
 nlohmann::json evalPlotData(const std::vector<ConfigSummary>& summaries);
 
-// scripts/plot_eval.py of the package, found as config/valerant.yaml is.
+// scripts/plot_eval.py of the package folder (package_dir.h), found as
+// config/valerant.yaml is: the source tree, or share/valerant once installed.
 std::string plotScriptPath();
 // Debian's interpreter: python3-matplotlib is installed for it.
 inline constexpr const char* kPlotPython = "/usr/bin/python3";
