@@ -32,3 +32,7 @@ install(DIRECTORY config rviz models DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINAT
 install(DIRECTORY launch DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}
   PATTERN "*.sh" PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE GROUP_READ GROUP_EXECUTE WORLD_READ
   WORLD_EXECUTE)
+
+# valerant_eval's plotting script (include/valerant/eval/eval_plots.h), run by Debian's
+# python3 with python3-matplotlib.
+install(PROGRAMS scripts/plot_eval.py DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/scripts)

@@ -57,9 +57,6 @@ std::vector<double> numbers(const nlohmann::json& j) {
   return out;
 }
 
-const cv::Scalar kPalette[] = {{40, 40, 220}, {40, 160, 40}, {220, 120, 30}, {160, 40, 160}, {30, 170, 200},
-                               {120, 120, 120}, {200, 60, 120}, {60, 200, 140}, {0, 90, 200}, {140, 140, 0}};
-
 std::string fixed(double v, int digits = 1) {
   std::ostringstream s;
   s << std::fixed << std::setprecision(digits) << v;
@@ -426,7 +423,9 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
   }
   md << "\n![coverage against step](" << plots_prefix << "coverage_by_step.png)\n"
      << "![penetrations](" << plots_prefix << "penetrations.png)\n"
-     << "![coverage per clean step](" << plots_prefix << "coverage_per_clean_step.png)\n\n## Runs\n\n"
+     << "![coverage per clean step](" << plots_prefix << "coverage_per_clean_step.png)\n\n"
+     << "Each plot also as SVG beside its PNG; the plotted numbers: [plots.json](" << plots_prefix
+     << "plots.json).\n\n## Runs\n\n"
      << "Top-down maps of every run, one sheet per configuration: ";
   for (const auto& s : summaries) md << "[" << s.config << "](" << plots_prefix << "topdowns_" << s.config << ".png) ";
   md << "\n\n| map | spawn | config | reachable observed % | m2 | committed steps | penetrations | "
@@ -505,66 +504,6 @@ cv::Mat topdownSheet(const std::vector<EvalResult>& results, const std::string& 
     cv::putText(sheet, tiles[i].first, {x + 4, y + 13}, cv::FONT_HERSHEY_SIMPLEX, 0.42, cv::Scalar::all(0), 1, cv::LINE_AA);
   }
   return sheet;
-}
-
-cv::Mat plotCoverageCurves(const std::vector<ConfigSummary>& summaries) {
-  const int w = 720, h = 420, left = 60, bottom = 40, top = 30, right = 150;
-  cv::Mat img(h, w, CV_8UC3, cv::Scalar::all(255));
-  size_t steps = 1;
-  double top_value = 1;
-  for (const auto& s : summaries) {
-    steps = std::max(steps, s.observed_by_step.size());
-    for (double v : s.observed_by_step) top_value = std::max(top_value, v);
-  }
-  top_value = std::ceil(top_value / 10) * 10;
-  auto at = [&](double step, double v) {
-    return cv::Point(left + static_cast<int>((w - left - right) * step / std::max<size_t>(1, steps)),
-                     h - bottom - static_cast<int>((h - bottom - top) * v / top_value));
-  };
-  cv::line(img, at(0, 0), at(steps, 0), cv::Scalar::all(0));
-  cv::line(img, at(0, 0), at(0, top_value), cv::Scalar::all(0));
-  for (int t = 0; t <= 4; ++t) {
-    const double v = top_value * t / 4;
-    cv::putText(img, fixed(v, v == std::round(v) ? 0 : 1), at(0, v) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.4,
-                cv::Scalar::all(0));
-  }
-  cv::putText(img, "reachable floor observed (%) by step", {left, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar::all(0));
-  cv::putText(img, "step", at(steps, 0) + cv::Point(-30, 30), cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar::all(0));
-  for (size_t i = 0; i < summaries.size(); ++i) {
-    const auto& curve = summaries[i].observed_by_step;
-    const cv::Scalar colour = kPalette[i % std::size(kPalette)];
-    for (size_t k = 0; k < curve.size(); ++k) {
-      const cv::Point p = at(k + 1, curve[k]);
-      if (k > 0) cv::line(img, at(k, curve[k - 1]), p, colour, 2, cv::LINE_AA);
-      cv::circle(img, p, 2, colour, cv::FILLED);
-    }
-    cv::putText(img, summaries[i].config, {w - right + 10, top + 20 * static_cast<int>(i + 1)},
-                cv::FONT_HERSHEY_SIMPLEX, 0.45, colour, 1, cv::LINE_AA);
-  }
-  return img;
-}
-
-cv::Mat plotBars(const std::vector<ConfigSummary>& summaries, double ConfigSummary::*value, const std::string& title) {
-  const int bar = 50, gap = 20, left = 50, h = 360, bottom = 60, top = 40;
-  const int bars_width = left + static_cast<int>(summaries.size()) * (bar + gap) + gap;
-  int baseline = 0;
-  const int title_width = cv::getTextSize(title, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, &baseline).width + 20;
-  cv::Mat img(h, std::max({bars_width, title_width, 320}), CV_8UC3, cv::Scalar::all(255));
-  double top_value = 1e-9;
-  for (const auto& s : summaries) top_value = std::max(top_value, s.*value);
-  cv::putText(img, title, {10, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar::all(0));
-  for (size_t i = 0; i < summaries.size(); ++i) {
-    const double v = summaries[i].*value;  // -1: no run records it, no bar
-    const int x = left + static_cast<int>(i) * (bar + gap);
-    const int height = v < 0 ? 0 : static_cast<int>((h - bottom - top) * v / top_value);
-    if (height > 0)
-      cv::rectangle(img, {x, h - bottom - height}, {x + bar, h - bottom}, kPalette[i % std::size(kPalette)], cv::FILLED);
-    cv::putText(img, mean(v, v < 10 ? 2 : 0), {x, h - bottom - height - 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
-                cv::Scalar::all(0));
-    cv::putText(img, summaries[i].config, {x, h - bottom + 18}, cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar::all(0));
-  }
-  cv::line(img, {left - 5, h - bottom}, {img.cols - 5, h - bottom}, cv::Scalar::all(0));
-  return img;
 }
 
 }  // namespace valerant

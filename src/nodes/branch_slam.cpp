@@ -125,7 +125,7 @@ class BranchSlot {
   // The frame's ground truth, when it carries one, is held in truth_ while it is
   // tracked: the oracle backend reads it there.
   TrackedStep track(Slam& slam, const valerant::Frame& frame) {
-    const cv::Mat rgb = valerant::bridge::fromImageMsg(frame.rgb);
+    const cv::Mat rgb = valerant::bridge::fromCompressedImageMsg(frame.rgb);
     if (rgb.empty()) throw InputError("frame " + std::to_string(frame.key.index), "has no image");
     const FrameStamp stamp{frame.key.rollout_id, static_cast<int>(frame.key.index)};
     std::optional<RolloutTruth::Hold> held;
@@ -134,23 +134,12 @@ class BranchSlot {
   }
 
   valerant::SlamFrame trackedMsg(const valerant::FrameKey& key, const TrackedStep& step, bool with_depth) const {
-    valerant::SlamFrame msg;
-    msg.header.stamp = ::ros::Time::now();
-    msg.header.frame_id = "map";
-    msg.key = key;
-    msg.state = toString(step.frame.state);
-    msg.camera_to_map = valerant::bridge::toMsg(step.frame.camera_to_map);
-    msg.keyframe = step.keyframe.has_value();
-    msg.parallax_free = step.frame.rotation_only;
     // Downstream reads the raw depth only (the depth collision test), so the
     // confidence image stays home: it is the largest part of a frame.
-    if (with_depth) msg.depth = valerant::bridge::toImageMsg(step.frame.depth);
-    if (step.keyframe) {
-      msg.keyframe_index = static_cast<uint32_t>(step.keyframe->keyframe);
-      msg.keyframe_frame = static_cast<uint32_t>(step.keyframe->frame);
-      msg.keyframe_pose = valerant::bridge::toMsg(step.keyframe->camera_to_map);
-      msg.cloud = valerant::bridge::toCloudMsg(step.keyframe->points, "map");
-    }
+    valerant::SlamFrame msg =
+        valerant::bridge::toMsg(step.frame, step.keyframe ? &*step.keyframe : nullptr, with_depth);
+    msg.header.stamp = ::ros::Time::now();
+    msg.key = key;
     return msg;
   }
 

@@ -1,6 +1,7 @@
 // world_model_server: serves a WorldModel (backend quake3 or bag) to the graph.
-//   action   ~rollout {checkpoint_id, candidate}: frames stream on branch/<c>/frames
-//            (and branch/<c>/image for viewers); the result carries ids and truth poses
+//   action   ~rollout {checkpoint_id, candidate}: frames stream on branch/<c>/frames as
+//            lossless PNG (and raw on branch/<c>/image for viewers); the result carries
+//            ids and truth poses
 //   services ~checkpoint ~restore ~drop ~commit ~reset ~get_rollout
 //   latched  ~camera_info, ~context (the episode's starting frames, for recordings)
 //   periodic camera/image (committed view), tf gt_world -> gt_camera (engine truth)
@@ -152,7 +153,7 @@ class WorldModelServer {
     f.key.rotation_only = rotation_only;
     f.key.index = static_cast<uint32_t>(i);
     f.key.count = static_cast<uint32_t>(r.frames.empty() ? r.truth.size() : r.frames.size());
-    if (with_images && i < r.frames.size()) f.rgb = valerant::bridge::toImageMsg(r.frames[i]);
+    if (with_images && i < r.frames.size()) f.rgb = valerant::bridge::toCompressedImageMsg(r.frames[i]);
     if (i < r.truth.size()) f.truth.push_back(valerant::bridge::toMsg(r.truth[i], with_images && with_depth_));
     return f;
   }

@@ -15,10 +15,25 @@ namespace {
 Rollout framesToRollout(const std::vector<valerant::Frame::ConstPtr>& frames) {
   Rollout r;
   for (const auto& f : frames) {
-    r.frames.push_back(fromImageMsg(f->rgb));
+    r.frames.push_back(fromCompressedImageMsg(f->rgb));
     for (const auto& t : f->truth) r.truth.push_back(fromMsg(t));
   }
   return r;
+}
+
+// A message of the type's name but another definition (md5) is a bag recorded by an
+// older valerant: Frame once carried raw images, which this build cannot read.
+template <class M>
+boost::shared_ptr<M> instantiate(const rosbag::MessageInstance& m, const std::string& path, const std::string& topic) {
+  boost::shared_ptr<M> msg = m.instantiate<M>();
+  if (msg) return msg;
+  const std::string type = ::ros::message_traits::datatype<M>();
+  if (m.getDataType() == type)
+    throw InputError("bag " + path, topic + " holds " + type + " of an older message format (md5 " + m.getMD5Sum() +
+                                        ", this build reads " + ::ros::message_traits::md5sum<M>() +
+                                        "; bags recorded before the frames were PNG-compressed): record it again "
+                                        "with record.launch");
+  throw InputError("bag " + path, topic + " is a " + m.getDataType() + ", not a " + type);
 }
 
 // rosbag record stores relative topic names as given ("world_model/context") and
@@ -41,15 +56,13 @@ BagWorld::BagWorld(const std::string& path, const std::string& prefix) : path_(p
     for (const rosbag::MessageInstance& m : view) {
       const std::string topic = withoutLeadingSlash(m.getTopic());
       if (topic == info_topic) {
-        const auto info = m.instantiate<sensor_msgs::CameraInfo>();
-        if (!info) throw InputError(path, info_topic + " is not a sensor_msgs/CameraInfo");
+        const auto info = instantiate<sensor_msgs::CameraInfo>(m, path, topic);
         intrinsics_.width = static_cast<int>(info->width);
         intrinsics_.height = static_cast<int>(info->height);
         intrinsics_.fx = info->K[0], intrinsics_.cx = info->K[2], intrinsics_.fy = info->K[4], intrinsics_.cy = info->K[5];
         have_info = true;
       } else if (topic == context_topic && !have_context) {
-        const auto context = m.instantiate<valerant::Context>();
-        if (!context) throw InputError(path, context_topic + " is not a valerant/Context");
+        const auto context = instantiate<valerant::Context>(m, path, topic);
         std::vector<valerant::Frame::ConstPtr> frames;
         for (const auto& f : context->frames) frames.push_back(boost::make_shared<valerant::Frame>(f));
         context_ = framesToRollout(frames);
@@ -57,8 +70,7 @@ BagWorld::BagWorld(const std::string& path, const std::string& prefix) : path_(p
         have_context = true;
       } else if (topic.rfind(root + "branch/", 0) == 0 && topic.size() > 7 &&
                  topic.compare(topic.size() - 7, 7, "/frames") == 0) {
-        const auto frame = m.instantiate<valerant::Frame>();
-        if (!frame) throw InputError(path, topic + " is not a valerant/Frame");
+        const auto frame = instantiate<valerant::Frame>(m, path, topic);
         auto& list = rollouts_[{frame->key.checkpoint_id, frame->key.candidate}];
         // A rollout recorded twice at one checkpoint (never in one episode): keep the first.
         if (list.size() < frame->key.count && (list.empty() || frame->key.index == list.size())) list.push_back(m);
@@ -95,7 +107,7 @@ Rollout BagWorld::rollout(const ActionSequence& actions) {
                                          " (the replay left the recorded episode)");
   std::vector<valerant::Frame::ConstPtr> frames;
   try {
-    for (const auto& m : it->second) frames.push_back(m.instantiate<valerant::Frame>());
+    for (const auto& m : it->second) frames.push_back(instantiate<valerant::Frame>(m, path_, m.getTopic()));
   } catch (const ::ros::Exception& e) {
     throw InputError("bag " + path_, std::string("corrupt rollout: ") + e.what());
   }

@@ -49,7 +49,7 @@ Rollout WorldModelClient::context() const {
   Rollout r;
   r.candidate = "context";
   for (const auto& f : srv.response.frames) {
-    if (!f.rgb.data.empty()) r.frames.push_back(valerant::bridge::fromImageMsg(f.rgb));
+    if (!f.rgb.data.empty()) r.frames.push_back(valerant::bridge::fromCompressedImageMsg(f.rgb));
     for (const auto& t : f.truth) {
       r.truth.push_back(fromMsg(t));
       // The graph's rollouts carry no truth depth (README: completeness is null there);

@@ -41,6 +41,7 @@
 #include "tool_config.h"
 #include "valerant/common/output_file.h"
 #include "valerant/config/config.h"
+#include "valerant/eval/eval_plots.h"
 #include "valerant/eval/eval_report.h"
 
 using namespace valerant;
@@ -84,12 +85,13 @@ constexpr int kThumbnailPixels = 200;  // top-down sheet tiles: 15 runs make a 1
 
 // The markdown report at `md_path` and its images in `image_folder` beside it.
 void writeReport(const std::string& md_path, const std::string& image_folder, const std::string& markdown,
-                 const std::map<std::string, cv::Mat>& images) {
+                 const std::map<std::string, cv::Mat>& images, const std::vector<ConfigSummary>& summaries) {
   const fs::path dir = fs::path(md_path).parent_path() / image_folder;
   if (!dir.empty()) fs::create_directories(dir);
   // The images first: the report links them.
   for (const auto& [name, image] : images)
     if (!image.empty()) writeImageAtomically((dir / name).string(), image);
+  drawEvalPlots(summaries, dir.empty() ? "." : dir.string());
   writeFileAtomically(md_path, markdown);
 }
 
@@ -215,18 +217,14 @@ int main(int argc, char** argv) {
     std::string command = "scripts/run valerant_eval";
     for (int i = 1; i < argc; ++i)
       if (std::string(argv[i]) != "--report-only") command += std::string(" ") + argv[i];
-    std::map<std::string, cv::Mat> images = {
-        {"coverage_by_step.png", plotCoverageCurves(summaries)},
-        {"penetrations.png", plotBars(summaries, &ConfigSummary::penetrations, "penetrating committed frames per run")},
-        {"coverage_per_clean_step.png", plotBars(summaries, &ConfigSummary::observed_m2_per_clean_step,
-                                                 "reachable m2 observed per penetration-free step")}};
+    std::map<std::string, cv::Mat> images;
     for (const auto& c : configs) images["topdowns_" + c + ".png"] = topdownSheet(results, c, kThumbnailPixels);
-    writeReport(out + "/evaluation.md", "", markdownReport(summaries, results, command, ""), images);
+    writeReport(out + "/evaluation.md", "", markdownReport(summaries, results, command, ""), images, summaries);
     if (args.has("--publish")) {
       // The committed copy: images beside it in a folder named after it, links relative.
       const fs::path md = args.get("--publish");
       const std::string folder = md.stem().string();
-      writeReport(md.string(), folder, markdownReport(summaries, results, command, folder + "/"), images);
+      writeReport(md.string(), folder, markdownReport(summaries, results, command, folder + "/"), images, summaries);
     }
     if (g_signals > 0 && stop_signal == 0) stop_signal = g_first_signal;  // came after the last run ended
     nlohmann::json summary = {{"tool", "valerant_eval"}, {"runs", runs.size()}, {"out", out}};

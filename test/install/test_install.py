@@ -86,6 +86,7 @@ class InstallSpace(unittest.TestCase):
                      "launch/params/explorer.yaml", "msg/Decision.msg", "action/Explore.action"]:
             self.assertTrue(os.path.isfile(os.path.join(share, path)), path)
         self.assertTrue(os.access(os.path.join(share, "launch", "env_loader.sh"), os.X_OK))
+        self.assertTrue(os.access(os.path.join(share, "scripts", "plot_eval.py"), os.X_OK))  # valerant_eval's plots
         self.assertTrue(os.path.isfile(os.path.join(self.prefix, "include", "valerant", "config", "package_dir.h")))
 
     def test_tools_are_on_the_path_and_nodes_where_rosrun_looks(self):

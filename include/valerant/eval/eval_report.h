@@ -1,8 +1,7 @@
 #pragma once
 // Results of an evaluation grid: one CSV row per run, a markdown report with a table per
-// configuration (means over runs), findings against a reference configuration, and
-// images drawn with OpenCV (coverage against step, penetrations and coverage per
-// penetration-free step by configuration, a sheet of every run's top-down map).
+// configuration (means over runs), findings against a reference configuration, and a
+// sheet of every run's top-down map per configuration (the plots: eval_plots.h).
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <map>
@@ -69,7 +68,5 @@ std::vector<std::string> findings(const std::vector<ConfigSummary>& summaries, c
 // Every finished run of `config` as a labelled thumbnail of its topdown.png (BGR; empty
 // when no run has one).
 cv::Mat topdownSheet(const std::vector<EvalResult>& results, const std::string& config, int thumbnail_px);
-cv::Mat plotCoverageCurves(const std::vector<ConfigSummary>& summaries);  // BGR
-cv::Mat plotBars(const std::vector<ConfigSummary>& summaries, double ConfigSummary::*value, const std::string& title);
 
 }  // namespace valerant

@@ -20,8 +20,9 @@ namespace valerant::bridge {
 
 class BagWorld : public WorldModel {
  public:
-  // `prefix`: the recorded graph's namespace ("/" for the root). Throws InputError for
-  // an unreadable or corrupt bag, or one without camera_info or context.
+  // `prefix`: the recorded graph's namespace ("/" for the root). Throws InputError naming
+  // the bag for an unreadable or corrupt one, one without camera_info or context, and one
+  // recorded before the frames were PNG-compressed (an older valerant/Frame format).
   BagWorld(const std::string& path, const std::string& prefix);
 
   CameraIntrinsics intrinsics() const override { return intrinsics_; }
