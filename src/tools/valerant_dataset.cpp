@@ -13,8 +13,12 @@
 //   valerant_dataset --out DIR [--split train|evaluation] [--maps A,B,...] [--exclude A,B]
 //                    [--seed N] [--width 128] [--height 96] [--spawns 3] [--rotations 12]
 //                    [--walks 12] [--shard-mib 24] [--in-solid skip|keep] [--config FILE]
-//                    [--texture-shuffle P]
+//                    [--set key=value ...] [--texture-shuffle P]
 //   valerant_dataset --list-maps [--split ...] [--maps ...] [--exclude ...]   (the maps, one a line)
+//   (--help: every flag)
+//
+// --width and --height set world.width and world.height (the depth prior's input size,
+// not the explorer's frame), so the configuration's checks apply to them.
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -22,7 +26,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "cli_args.h"
+#include "command_line.h"
+#include "tool_config.h"
 #include "valerant/dataset/dataset_render.h"
 #include "valerant/dataset/map_sets.h"
 #include "valerant/world/quake3/units.h"
@@ -32,84 +37,101 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<std::string> chooseMaps(const tools::CliArgs& args, const dataset::MapSets& sets, const std::string& split) {
+// The maps to render: --maps (or the split's maps) less --exclude; each must belong to
+// the split.
+std::vector<std::string> chooseMaps(const CLI::Option& maps_flag, const std::string& maps_text,
+                                    const CLI::Option& exclude_flag, const std::string& exclude_text,
+                                    const dataset::MapSets& sets, const std::string& split) {
   std::vector<std::string> maps;
-  if (args.has("--maps")) {
-    maps = args.list("--maps", "");
+  if (maps_flag.count()) {
+    maps = tools::commaList("--maps", maps_text);
   } else if (split == "evaluation") {
     maps = sets.evaluation;
   } else {
     for (const auto& m : quake3::installedMapNames())
       if (!sets.isHeldOut(m)) maps.push_back(m);
   }
-  if (args.has("--exclude")) {
-    const auto exclude = args.list("--exclude", "");
+  if (exclude_flag.count()) {
+    const auto exclude = tools::commaList("--exclude", exclude_text);
     maps.erase(std::remove_if(maps.begin(), maps.end(),
                               [&](const std::string& m) { return std::count(exclude.begin(), exclude.end(), m) > 0; }),
                maps.end());
   }
   for (const auto& m : maps) {
     if (split == "train" && sets.isHeldOut(m))
-      throw InputError("--maps " + m, "is held out for evaluation (config/map_sets.yaml): never in a training shard");
+      throw tools::UsageError("--maps " + m,
+                              "is held out for evaluation (config/map_sets.yaml): never in a training shard");
     if (split == "evaluation" && !sets.isHeldOut(m))
-      throw InputError("--maps " + m, "is not a held-out map; an evaluation shard holds only those");
+      throw tools::UsageError("--maps " + m, "is not a held-out map; an evaluation shard holds only those");
   }
-  if (maps.empty()) throw InputError("--maps", "no map left to render");
+  if (maps.empty()) throw tools::UsageError("--maps", "no map left to render");
   return maps;
 }
 
-double probability(const tools::CliArgs& args, const std::string& key) {
-  const std::string text = args.get(key, "0");
-  char* end = nullptr;
-  const double p = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(p >= 0.0 && p <= 1.0))
-    throw InputError(key + " " + text, "must be a probability from 0 to 1");
-  return p;
-}
-
-int positive(const tools::CliArgs& args, const std::string& key, int fallback) {
-  const int v = args.integer(key, fallback);
-  if (v < 0) throw InputError(key + " " + std::to_string(v), "must not be negative");
-  return v;
+// The check of a probability flag: a number from 0 to 1 (not NaN).
+CLI::Validator probability() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double p = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !(p >= 0.0 && p <= 1.0)) return text + " is not a probability from 0 to 1";
+        return "";
+      },
+      "");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    tools::CliArgs args(argc, argv,
-                        {"--out", "--split", "--maps", "--exclude", "--seed", "--width", "--height", "--spawns",
-                         "--rotations", "--walks", "--shard-mib", "--in-solid", "--config", "--map-sets",
-                         "--texture-shuffle"},
-                        {"--list-maps"});
-    Config config = loadConfig(args.get("--config", defaultConfigPath()));
-    const std::string split = args.get("--split", "train");
-    if (split != "train" && split != "evaluation") throw InputError("--split " + split, "must be train or evaluation");
-    const std::string in_solid = args.get("--in-solid", "skip");
-    if (in_solid != "skip" && in_solid != "keep") throw InputError("--in-solid " + in_solid, "must be skip or keep");
-    const dataset::MapSets sets = dataset::loadMapSets(args.get("--map-sets", dataset::defaultMapSetsPath()));
-    const std::vector<std::string> maps = chooseMaps(args, sets, split);
-    if (args.has("--list-maps")) {
+  CLI::App app{
+      "Renders training data for the learned parts from the engine: colour frames, true depth, poses, "
+      "keys and in-solid flags along candidate rollouts, turns in place and random walks, as shards.",
+      "valerant_dataset"};
+  tools::useToolConventions(app);
+  tools::ToolConfig tool_config(app);
+  tool_config.keyFlag("--width", "world.width", "INT", "frame width in pixels", "128");
+  tool_config.keyFlag("--height", "world.height", "INT", "frame height in pixels", "96");
+  std::string out, split = "train", maps_text, exclude_text, in_solid = "skip",
+                   map_sets_file = dataset::defaultMapSetsPath();
+  int64_t seed_flag = 0;
+  int shard_mib = 24;
+  double texture_shuffle = 0;
+  dataset::SamplingParams params;
+  app.add_option("--out", out, "shard folder (required unless --list-maps)")->type_name("DIR");
+  app.add_option("--split", split, "train: every installed map but the held-out ones; evaluation: the held-out maps")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"train", "evaluation"}));
+  const CLI::Option* maps_flag =
+      app.add_option("--maps", maps_text, "maps, comma-separated (default: the split's maps)")->type_name("LIST");
+  const CLI::Option* exclude_flag =
+      app.add_option("--exclude", exclude_text, "maps to leave out, comma-separated")->type_name("LIST");
+  app.add_option("--map-sets", map_sets_file, "the held-out map sets")->type_name("FILE")->capture_default_str();
+  tools::addInteger<int64_t>(app, "--seed", seed_flag, "random seed of the sequences (and the texture shuffle)", 0);
+  tools::addInteger(app, "--spawns", params.spawns, "spawns whose candidate rollouts are rendered, per map", 0);
+  tools::addInteger(app, "--rotations", params.rotations, "turns in place from random reachable cells, per map", 0);
+  tools::addInteger(app, "--walks", params.walks, "random walks from random reachable cells, per map", 0);
+  tools::addInteger(app, "--shard-mib", shard_mib, "shard size in MiB (1 to 60)", 1, 60);
+  app.add_option("--in-solid", in_solid, "skip: a sequence stops where the camera enters solid; keep: it goes on")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"skip", "keep"}));
+  app.add_option("--texture-shuffle", texture_shuffle,
+                 "domain randomisation (training split only): the probability that a surface wears another image")
+      ->capture_default_str()
+      ->check(probability());
+  const CLI::Option* list_maps = app.add_flag("--list-maps", "print the maps, one a line, and render nothing");
+  return tools::runTool(app, argc, argv, [&] {
+    const Config config = tool_config.document().parse();
+    const dataset::MapSets sets = dataset::loadMapSets(map_sets_file);
+    const std::vector<std::string> maps = chooseMaps(*maps_flag, maps_text, *exclude_flag, exclude_text, sets, split);
+    if (list_maps->count()) {
       for (const auto& m : maps) std::cout << m << '\n';
       return 0;
     }
-    config.world.width = args.integer("--width", 128);
-    config.world.height = args.integer("--height", 96);
-    if (config.world.width < 16 || config.world.height < 16 || config.world.width > 4096 || config.world.height > 4096)
-      throw InputError("--width/--height", "must be 16 to 4096 pixels");
-    const int64_t seed_arg = args.integer<int64_t>("--seed", 0);
-    if (seed_arg < 0) throw InputError("--seed " + std::to_string(seed_arg), "must not be negative");
-    const uint64_t seed = static_cast<uint64_t>(seed_arg);
-    dataset::SamplingParams params;
-    params.spawns = positive(args, "--spawns", params.spawns);
-    params.rotations = positive(args, "--rotations", params.rotations);
-    params.walks = positive(args, "--walks", params.walks);
-    const int shard_mib = args.integer("--shard-mib", 24);
-    if (shard_mib < 1 || shard_mib > 60) throw InputError("--shard-mib " + std::to_string(shard_mib), "must be 1 to 60");
-    const double texture_shuffle = probability(args, "--texture-shuffle");
+    const uint64_t seed = static_cast<uint64_t>(seed_flag);
     if (texture_shuffle > 0 && split != "train")
-      throw InputError("--texture-shuffle", "randomises training data only; an evaluation shard shows the maps as they are");
-    const std::string out = args.required("--out");
+      throw tools::UsageError("--texture-shuffle",
+                              "randomises training data only; an evaluation shard shows the maps as they are");
+    if (out.empty()) throw tools::UsageError("--out", "is required");
     fs::create_directories(out);
 
     // The pool is every training map's, whichever maps this run renders, so runs over
@@ -174,8 +196,5 @@ int main(int argc, char** argv) {
                                  {"texture_shuffle", texture_shuffle}, {"texture_pool_images", pool.images.size()}};
     std::cout << line.dump() << std::endl;
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "valerant_dataset: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

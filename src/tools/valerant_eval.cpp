@@ -3,6 +3,7 @@
 //
 //   valerant_eval --maps oa_dm1,oa_dm4 --spawns 3 --configs full,no-rf,oracle,random
 //                 --out DIR [--jobs 2] [--budget 15] [--slam visual|oracle] [--config FILE]
+//                 [--set key=value ...]   (--help: every flag)
 //                 [--run-timeout SECONDS]  (per run, default 3600; 0: none)
 //                 [--report-only]   (report the finished runs, start none)
 //                 [--publish docs/evaluation.md]  (also write the report there, its images in
@@ -37,10 +38,11 @@
 
 #include "child_pool.h"
 #include "child_process.h"
-#include "cli_args.h"
 #include "tool_config.h"
+#include "valerant/common/joined.h"
 #include "valerant/common/output_file.h"
 #include "valerant/config/config.h"
+#include "valerant/eval/eval_grid.h"
 #include "valerant/eval/eval_plots.h"
 #include "valerant/eval/eval_report.h"
 
@@ -106,24 +108,40 @@ std::string formatSeconds(double s) {
 int main(int argc, char** argv) {
   // From the start: a signal during the checks below starts no run and still reports.
   handleStopSignals();
-  try {
-    tools::CliArgs args(argc, argv, {"--maps", "--spawns", "--configs", "--out", "--jobs", "--budget", "--slam", "--config",
-                         "--publish", "--run-timeout", "--set"},
-                        {"--report-only"});
+  CLI::App app{
+      "Runs an evaluation grid (maps x spawns x configurations) of valerant_explore episodes in "
+      "parallel processes and reports it: results.csv, evaluation.md and plots.",
+      "valerant_eval"};
+  tools::useToolConventions(app);
+  tools::ToolConfig tool_config(app);
+  tool_config.keyFlag("--budget", "policy.budget_steps", "INT", "steps each run commits");
+  tool_config.keyFlag("--slam", "slam.backend", "visual|oracle", "SLAM backend of every run");
+  std::string maps_text, configs_text = "full", out, publish;
+  int spawns = 1, jobs = 2, run_timeout = kDefaultRunTimeoutSeconds;
+  app.add_option("--maps", maps_text, "maps, comma-separated (plain names: run folders are named after them)")
+      ->type_name("LIST")
+      ->required();
+  tools::addInteger(app, "--spawns", spawns, "spawn points 0 to N-1 of every map", 1);
+  app.add_option("--configs", configs_text, "configurations, comma-separated: " + joined(knownEvalConfigs(), ", "))
+      ->type_name("LIST")
+      ->capture_default_str();
+  app.add_option("--out", out, "grid folder (runs/, results.csv, evaluation.md)")->type_name("DIR")->required();
+  tools::addInteger(app, "--jobs", jobs, "runs at a time", 1);
+  tools::addInteger(app, "--run-timeout", run_timeout, "seconds a run may take (0: no limit)", 0);
+  const CLI::Option* report_only_flag = app.add_flag("--report-only", "report the finished runs, start none");
+  const CLI::Option* publish_flag =
+      app.add_option("--publish", publish,
+                     "also write the report there (e.g. docs/evaluation.md), its images beside it")
+          ->type_name("FILE");
+  return tools::runTool(app, argc, argv, [&] {
     // The grid's configuration, with --budget and --slam checked as every run will check them.
-    const Config config =
-        tools::toolConfigDocument(args, {{"--budget", "policy.budget_steps"}, {"--slam", "slam.backend"}}).parse();
-    const std::string out = args.required("--out");
-    const std::vector<std::string> configs = args.list("--configs", "full");
-    const auto runs = makeEvalGrid(args.list("--maps", args.required("--maps")), args.integer("--spawns", 1),
-                                   configs, out);
-    const int jobs = args.integer("--jobs", 2);
-    if (jobs < 1) throw InputError("--jobs", "must be >= 1");
-    const int run_timeout = args.integer("--run-timeout", kDefaultRunTimeoutSeconds);
-    if (run_timeout < 0) throw InputError("--run-timeout " + args.get("--run-timeout"), "must be >= 0 (0: no limit)");
+    const Config config = tool_config.document().parse();
+    const std::vector<std::string> configs = tools::commaList("--configs", configs_text);
+    const auto runs = tools::checkFlagValues(
+        [&] { return makeEvalGrid(tools::commaList("--maps", maps_text), spawns, configs, out); });
     const int budget = config.policy.budget_steps;
     const std::string slam = config.slam.backend;
-    const bool report_only = args.has("--report-only");
+    const bool report_only = report_only_flag->count() > 0;
 
     std::vector<size_t> todo;  // indices into runs
     for (size_t i = 0; i < runs.size(); ++i)
@@ -138,7 +156,7 @@ int main(int argc, char** argv) {
         if (std::find(todo_maps.begin(), todo_maps.end(), runs[i].map) == todo_maps.end())
           todo_maps.push_back(runs[i].map);
       }
-      checkEvalSpawns(todo_runs, installedSpawnCounts(todo_maps));
+      tools::checkFlagValues([&] { checkEvalSpawns(todo_runs, installedSpawnCounts(todo_maps)); });
     }
     std::cerr << "valerant_eval: " << runs.size() << " runs, " << runs.size() - todo.size()
               << (report_only ? " reported, none started" : " done already") << ", " << jobs << " at a time\n";
@@ -164,8 +182,9 @@ int main(int argc, char** argv) {
         while (stop_signal == 0 && !pool.full() && next < todo.size()) {
           const EvalRun& r = runs[todo[next]];
           std::vector<std::string> explore_args = exploreArguments(r, slam, budget);
-          if (args.has("--config")) explore_args.insert(explore_args.end(), {"--config", args.get("--config")});
-          for (const auto& assignment : args.sets()) explore_args.insert(explore_args.end(), {"--set", assignment});
+          if (tool_config.fileGiven()) explore_args.insert(explore_args.end(), {"--config", tool_config.file()});
+          for (const auto& assignment : tool_config.sets())
+            explore_args.insert(explore_args.end(), {"--set", assignment});
           explore_args.insert(explore_args.begin(), explore);
           fs::create_directories(r.dir);
           pool.start(todo[next++], explore_args, r.dir + "/summary.json", r.dir + "/explore.log");
@@ -220,9 +239,9 @@ int main(int argc, char** argv) {
     std::map<std::string, cv::Mat> images;
     for (const auto& c : configs) images["topdowns_" + c + ".png"] = topdownSheet(results, c, kThumbnailPixels);
     writeReport(out + "/evaluation.md", "", markdownReport(summaries, results, command, ""), images, summaries);
-    if (args.has("--publish")) {
+    if (publish_flag->count()) {
       // The committed copy: images beside it in a folder named after it, links relative.
-      const fs::path md = args.get("--publish");
+      const fs::path md = publish;
       const std::string folder = md.stem().string();
       writeReport(md.string(), folder, markdownReport(summaries, results, command, folder + "/"), images, summaries);
     }
@@ -241,8 +260,5 @@ int main(int argc, char** argv) {
     std::cout << summary.dump() << std::endl;
     if (stop_signal) return 128 + stop_signal;
     return failed ? 1 : 0;
-  } catch (const std::exception& e) {
-    std::cerr << "valerant_eval: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

@@ -4,6 +4,7 @@
 //                    [--no-rf] [--no-col-pc] [--no-col-depth] [--no-dp] [--seed S]
 //                    [--policy valerant|random|forward|frontier]
 //                    [--config FILE] [--set key=value ...] [--force | --resume] --out DIR
+//                    (--help: every flag)
 //
 // Writes every export format (map/run_exports.h: map.ply, map.pcd, map.bt, grid.pgm +
 // grid.yaml, mesh.obj, mesh.glb, walkable.json, overview.png, orbit.png), the map kept
@@ -20,7 +21,6 @@
 #include <csignal>
 #include <iostream>
 
-#include "cli_args.h"
 #include "tool_config.h"
 #include "valerant/common/joined.h"
 #include "valerant/common/output_file.h"
@@ -50,42 +50,41 @@ void onSignal(int signal) {
   g_signal = signal;
 }
 
-const std::vector<tools::FlagKey> kFlagKeys = {{"--map", "world.map"},         {"--spawn", "world.spawn"},
-                                               {"--seed", "world.seed"},       {"--slam", "slam.backend"},
-                                               {"--policy", "policy.kind"},    {"--budget", "policy.budget_steps"}};
-const std::vector<tools::SwitchKey> kSwitchKeys = {{"--no-rf", "floor.enabled=false"},
-                                                   {"--no-col-pc", "collision.pointcloud_enabled=false"},
-                                                   {"--no-col-depth", "collision.depth_enabled=false"},
-                                                   {"--no-dp", "dead_pocket.enabled=false"}};
-
-// A resumed run takes its own configuration: a flag that would change it is an error.
-void requireNoConfigFlags(const tools::CliArgs& args) {
-  std::vector<std::string> given;
-  for (const auto& f : kFlagKeys)
-    if (args.has(f.flag)) given.push_back(f.flag);
-  for (const auto& f : kSwitchKeys)
-    if (args.has(f.flag)) given.push_back(f.flag);
-  if (args.has("--config")) given.push_back("--config");
-  if (!args.sets().empty()) given.push_back("--set");
-  if (!given.empty())
-    throw InputError("--resume", "takes the run's own configuration (its config.yaml); leave out " + joined(given));
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--slam", "--budget", "--seed", "--config", "--out", "--policy", "--set"},
-                        {"--no-rf", "--no-col-pc", "--no-col-depth", "--no-dp", "--force", "--resume"});
-    const std::string out = args.required("--out");
-    if (args.has("--force") && args.has("--resume")) throw InputError("--force, --resume", "choose one");
-    const RunStart start = args.has("--resume") ? RunStart::kResume
-                           : args.has("--force") ? RunStart::kForce
-                                                 : RunStart::kNew;
-    if (start == RunStart::kResume) requireNoConfigFlags(args);
+  CLI::App app{
+      "One exploration episode on the engine world, without ROS: the map in every export format, "
+      "decisions, trajectories and report.json.",
+      "valerant_explore"};
+  tools::useToolConventions(app);
+  tools::ToolConfig tool_config(app);
+  tool_config.keyFlag("--map", "world.map", "MAP", "map name or PK3:MAP");
+  tool_config.keyFlag("--spawn", "world.spawn", "INT", "spawn point index");
+  tool_config.keyFlag("--seed", "world.seed", "INT", "random seed");
+  tool_config.keyFlag("--slam", "slam.backend", "visual|oracle", "SLAM backend");
+  tool_config.keyFlag("--policy", "policy.kind", "valerant|random|forward|frontier", "policy");
+  tool_config.keyFlag("--budget", "policy.budget_steps", "INT", "steps to commit");
+  tool_config.switchFlag("--no-rf", "floor.enabled=false", "ablation: no floor estimate");
+  tool_config.switchFlag("--no-col-pc", "collision.pointcloud_enabled=false",
+                         "ablation: no point-cloud collision check");
+  tool_config.switchFlag("--no-col-depth", "collision.depth_enabled=false", "ablation: no depth collision check");
+  tool_config.switchFlag("--no-dp", "dead_pocket.enabled=false", "ablation: no dead-pocket rewind");
+  std::string out;
+  app.add_option("--out", out, "run folder")->type_name("DIR")->required();
+  CLI::Option* force = app.add_flag("--force", "replace the run the folder holds");
+  CLI::Option* resume =
+      app.add_flag("--resume", "continue the unfinished run the folder holds, with its own configuration");
+  force->excludes(resume);
+  return tools::runTool(app, argc, argv, [&] {
+    const RunStart start = resume->count() ? RunStart::kResume : force->count() ? RunStart::kForce : RunStart::kNew;
+    // A resumed run takes its own configuration: a flag that would change it is an error.
+    if (start == RunStart::kResume && !tool_config.givenFlags().empty())
+      throw tools::UsageError("--resume", "takes the run's own configuration (its config.yaml); leave out " +
+                                              joined(tool_config.givenFlags()));
     // Everything is checked before the folder is touched.
-    const ConfigDocument document = start == RunStart::kResume ? ConfigDocument::load(out + "/config.yaml")
-                                                               : tools::toolConfigDocument(args, kFlagKeys, kSwitchKeys);
+    const ConfigDocument document =
+        start == RunStart::kResume ? ConfigDocument::load(out + "/config.yaml") : tool_config.document();
     const Config config = document.parse();
     prepareRunDirectory(out, start);
     std::vector<nlohmann::json> recorded;
@@ -136,8 +135,5 @@ int main(int argc, char** argv) {
     report.erase("files");
     std::cout << report.dump() << std::endl;
     return signal ? 128 + signal : 0;
-  } catch (const std::exception& e) {
-    std::cerr << "valerant_explore: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

@@ -2,18 +2,20 @@
 // tools load (see map/run_exports.h for the formats and their frames).
 //
 //   valerant_export --run DIR --out DIR [--formats ply,pcd,bt,grid,obj,glb,walkable,png] [--force]
+//   (--help: every flag)
 //
 // Rebuilds the map from the run's own files (map/run_map.h), writes the formats (all by
 // default) and report.json into --out, and prints one JSON summary line. On an engine
 // run (report.json names the map, gt_trajectory.txt exists) the report also holds the
 // exported walkable area's precision and recall against the reachable floor
-// (eval/walkable_truth.h). Never overwrites a file unless --force.
+// (eval/walkable_truth.h). Never overwrites a file unless --force. The configuration is
+// the run's own (its config.yaml): the one that made the map, so no --config or --set.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
-#include "cli_args.h"
+#include "command_line.h"
 #include "valerant/common/error.h"
 #include "valerant/common/joined.h"
 #include "valerant/common/output_file.h"
@@ -76,13 +78,23 @@ nlohmann::json walkableGroundTruth(const RunMap& run, const std::string& run_dir
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    tools::CliArgs args(argc, argv, {"--run", "--out", "--formats"}, {"--force"});
-    const std::string run_dir = args.required("--run"), out = args.required("--out");
-    const std::vector<std::string> formats = parseFormats(args.get("--formats", joined(exportFormats(), ",")));
-    const bool overwrite = args.has("--force");
+  CLI::App app{
+      "Rebuilds the map of a finished run from its own files and exports it as files game engines and "
+      "ROS tools load.",
+      "valerant_export"};
+  tools::useToolConventions(app);
+  std::string run_dir, out, formats_text = joined(exportFormats(), ",");
+  app.add_option("--run", run_dir, "finished run folder (valerant_explore, the explorer node)")
+      ->type_name("DIR")
+      ->required();
+  app.add_option("--out", out, "export folder")->type_name("DIR")->required();
+  app.add_option("--formats", formats_text, "formats, comma-separated")->type_name("LIST")->capture_default_str();
+  const CLI::Option* force = app.add_flag("--force", "overwrite files the export folder holds");
+  return tools::runTool(app, argc, argv, [&] {
+    const std::vector<std::string> formats = tools::checkFlagValues([&] { return parseFormats(formats_text); });
+    const bool overwrite = force->count() > 0;
     if (fs::exists(out) && fs::exists(run_dir) && fs::equivalent(out, run_dir))
-      throw InputError("--out " + out, "is the run directory; its files are the export's input");
+      throw tools::UsageError("--out " + out, "is the run directory; its files are the export's input");
 
     const RunMap run = loadRunMap(run_dir);
     fs::create_directories(out);
@@ -98,8 +110,5 @@ int main(int argc, char** argv) {
     writeFileAtomically(report_path, report.dump(2) + '\n');
     std::cout << report.dump() << std::endl;
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "valerant_export: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

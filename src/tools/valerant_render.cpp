@@ -3,7 +3,7 @@
 // contact sheet per candidate. One JSON line on stdout; logs on stderr.
 //
 //   valerant_render --map oa_dm1 [--spawn 0] [--candidate uw|jw|lw|jq|lq|KEYS]
-//                   [--config FILE] [--every N] --out DIR
+//                   [--config FILE] [--set key=value ...] [--every N] --out DIR   (--help: every flag)
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "cli_args.h"
+#include "command_line.h"
 #include "tool_config.h"
 #include "valerant/common/contact_sheet.h"
 #include "valerant/common/output_file.h"
@@ -72,18 +72,29 @@ nlohmann::json writeRollout(const Rollout& r, const std::string& dir, int every)
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidate", "--config", "--out", "--every", "--set"});
-    const Config config =
-        tools::toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}}).parse();
-    const std::string out = args.required("--out");
-    const int every = args.integer("--every", 1);
-    if (every < 1) throw InputError("--every", "must be >= 1");
-
+  CLI::App app{
+      "Renders the candidate rollouts of the engine world from a spawn point: frames, true depth, "
+      "trajectory, in-solid flags and a contact sheet per candidate.",
+      "valerant_render"};
+  tools::useToolConventions(app);
+  tools::ToolConfig tool_config(app);
+  tool_config.keyFlag("--map", "world.map", "MAP", "map name or PK3:MAP");
+  tool_config.keyFlag("--spawn", "world.spawn", "INT", "spawn point index");
+  std::string out, candidate;
+  int every = 1;
+  app.add_option("--out", out, "output folder")->type_name("DIR")->required();
+  const CLI::Option* candidate_flag =
+      app.add_option("--candidate", candidate, "one rollout: uw, jw, lw, jq, lq or a key string (default: all five)")
+          ->type_name("KEYS");
+  tools::addInteger(app, "--every", every, "write the images of every Nth frame (and the last)", 1);
+  return tools::runTool(app, argc, argv, [&] {
+    const Config config = tool_config.document().parse();
     std::vector<std::string> candidates = candidateNames();
-    if (args.has("--candidate")) candidates = {args.get("--candidate")};
+    if (candidate_flag->count()) candidates = {candidate};
     std::vector<ActionSequence> sequences;  // validated before any rendering
-    for (const auto& c : candidates) sequences.push_back(makeActionSequence(c, config));
+    tools::checkFlagValues([&] {
+      for (const auto& c : candidates) sequences.push_back(makeActionSequence(c, config));
+    });
 
     auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
     quake3::Quake3World world(map, config);
@@ -110,8 +121,5 @@ int main(int argc, char** argv) {
                            {"rollouts", rollouts}};
     std::cout << line.dump() << std::endl;
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "valerant_render: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

@@ -8,14 +8,14 @@
 // per branch on one core (pin the process with taskset for a clean figure).
 //
 //   valerant_slam --map oa_dm1 [--spawn 0] [--candidates uw,jw,lw,jq,lq]
-//                 [--slam visual|oracle] [--config FILE] --out DIR
+//                 [--slam visual|oracle] [--config FILE] [--set key=value ...] --out DIR
+//                 (--help: every flag)
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "cli_args.h"
 #include "thread_clock.h"
 #include "tool_config.h"
 #include "valerant/common/output_file.h"
@@ -138,16 +138,28 @@ nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    tools::CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--config", "--out", "--set"});
-    const Config config =
-        tools::toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}, {"--slam", "slam.backend"}})
-            .parse();
+  CLI::App app{
+      "Runs a SLAM backend on engine rollouts (the spawn view, then one branch per candidate) and "
+      "scores it against the engine's ground truth.",
+      "valerant_slam"};
+  tools::useToolConventions(app);
+  tools::ToolConfig tool_config(app);
+  tool_config.keyFlag("--map", "world.map", "MAP", "map name or PK3:MAP");
+  tool_config.keyFlag("--spawn", "world.spawn", "INT", "spawn point index");
+  tool_config.keyFlag("--slam", "slam.backend", "visual|oracle", "SLAM backend");
+  std::string out, candidates = "uw,jw,lw,jq,lq";
+  app.add_option("--out", out, "output folder")->type_name("DIR")->required();
+  app.add_option("--candidates", candidates, "candidates or key strings, comma-separated")
+      ->type_name("LIST")
+      ->capture_default_str();
+  return tools::runTool(app, argc, argv, [&] {
+    const Config config = tool_config.document().parse();
     const std::string backend = config.slam.backend;
-    const std::string out = args.required("--out");
     std::vector<ActionSequence> sequences;  // validated before any rendering
-    for (const auto& c : args.list("--candidates", "uw,jw,lw,jq,lq"))
-      sequences.push_back(makeActionSequence(c, config));
+    tools::checkFlagValues([&] {
+      for (const auto& c : tools::commaList("--candidates", candidates))
+        sequences.push_back(makeActionSequence(c, config));
+    });
     cv::setNumThreads(1);
 
     auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
@@ -179,8 +191,5 @@ int main(int argc, char** argv) {
                                  {"out", out},          {"candidates", candidates}};
     std::cout << line.dump() << std::endl;
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "valerant_slam: error: " << e.what() << std::endl;
-    return 1;
-  }
+  });
 }

@@ -13,6 +13,7 @@ import argparse
 import json
 import os
 import random
+import re
 import resource
 import shutil
 import signal
@@ -36,6 +37,34 @@ ALWAYS_WRITTEN = ["config.yaml", "decisions.jsonl", "keyframes.pcd", "keyframes.
                   "walkable.json"]
 SNAPSHOT_FILES = ["config.yaml", "keyframes.pcd", "keyframes.txt", "trajectory.txt", "report.json"]
 MAP_EXPORTS = ["map.ply", "map.pcd", "map.bt", "mesh.obj", "mesh.glb", "overview.png", "orbit.png"]
+USAGE_ERROR = 2  # the exit status of a bad command line (src/tools/command_line.h)
+CONFIG_FLAGS = ["--config", "--set"]
+# Every tool (valerant_bench: every benchmark) with every flag its --help must list, the
+# flags a run needs, and an integer flag with which to give it a bad number.
+TOOL_FLAGS = {
+    ("valerant_render",): (["--map", "--spawn", "--candidate", "--every", "--out"] + CONFIG_FLAGS,
+                           ["--out", "OUT"], "--every"),
+    ("valerant_explore",): (["--map", "--spawn", "--seed", "--slam", "--policy", "--budget", "--no-rf", "--no-col-pc",
+                             "--no-col-depth", "--no-dp", "--force", "--resume", "--out"] + CONFIG_FLAGS,
+                            ["--out", "OUT"], "--spawn"),
+    ("valerant_slam",): (["--map", "--spawn", "--slam", "--candidates", "--out"] + CONFIG_FLAGS,
+                         ["--out", "OUT"], "--spawn"),
+    ("valerant_eval",): (["--maps", "--spawns", "--configs", "--out", "--jobs", "--budget", "--slam", "--publish",
+                          "--run-timeout", "--report-only"] + CONFIG_FLAGS,
+                         ["--maps", "oa_dm1", "--out", "OUT"], "--jobs"),
+    ("valerant_export",): (["--run", "--out", "--formats", "--force"], ["--run", "RUN", "--out", "OUT"], None),
+    ("valerant_dataset",): (["--out", "--split", "--maps", "--exclude", "--map-sets", "--seed", "--width", "--height",
+                             "--spawns", "--rotations", "--walks", "--shard-mib", "--in-solid", "--texture-shuffle",
+                             "--list-maps"] + CONFIG_FLAGS,
+                            ["--out", "OUT"], "--seed"),
+    ("valerant_bench", "render"): (["--map", "--spawn", "--frames"] + CONFIG_FLAGS, [], "--frames"),
+    ("valerant_bench", "slam"): (["--map", "--spawn", "--slam", "--candidates", "--repeats"] + CONFIG_FLAGS, [],
+                                 "--repeats"),
+    ("valerant_bench", "graph"): (["--map", "--spawn", "--seed", "--slam", "--budget", "--out"] + CONFIG_FLAGS,
+                                  ["--out", "OUT"], "--budget"),
+    ("valerant_bench", "map"): (["--run", "--updates"], ["--run", "RUN"], "--updates"),
+    ("valerant_bench", "depth"): (["--maps", "--spawns", "--model"] + CONFIG_FLAGS, [], "--spawns"),
+}
 
 
 def tool(name):
@@ -242,9 +271,55 @@ class Faults(unittest.TestCase):
                                (["--set", "collision.body_radius=-1"], "collision.body_radius: value -1 outside")]:
             with self.subTest(flags=flags):
                 status, _, err = run([tool("valerant_explore"), *EPISODE, *flags, "--out", out])
-                self.assertEqual(status, 1, err)
+                self.assertEqual(status, USAGE_ERROR, err)
                 self.assertIn(message, err)
                 self.assertFalse(os.path.exists(out), "nothing is made before the input is checked")
+
+    def test_every_tool_answers_help_with_every_flag(self):
+        status, out, err = run([tool("valerant_bench"), "--help"])
+        self.assertEqual(status, 0, err)
+        for benchmark in ("render", "slam", "graph", "map", "depth"):
+            self.assertIn(benchmark, out)
+        for command, (flags, _, _) in TOOL_FLAGS.items():
+            for help_flag in ("--help", "-h"):
+                with self.subTest(command=command, help=help_flag):
+                    status, out, err = run([tool(command[0]), *command[1:], help_flag])
+                    self.assertEqual(status, 0, err)
+                    listed = set(re.findall(r"--[a-z][a-z-]*", out))
+                    for flag in flags + ["--help"]:
+                        self.assertIn(flag, listed, out)
+                    self.assertIn("Exit status", out)
+
+    def test_bad_command_lines_are_errors_naming_the_flag_and_value(self):
+        out = self.folder("bad_command_line")
+        for command, (_, needed, integer_flag) in TOOL_FLAGS.items():
+            needed = [out if word in ("OUT", "RUN") else word for word in needed]
+            cases = [(["--no-such-flag"], ["--no-such-flag: unknown flag"]),
+                     (["stray"], ["'stray': unexpected argument"])]
+            if integer_flag:
+                cases.append(([integer_flag, "2x"], [integer_flag, "2x"]))
+            for flags, messages in cases:
+                with self.subTest(command=command, flags=flags):
+                    status, _, err = run([tool(command[0]), *command[1:], *needed, *flags])
+                    self.assertEqual(status, USAGE_ERROR, err)
+                    for message in messages:
+                        self.assertIn(message, err)
+                    self.assertIn("--help", err)
+                    self.assertFalse(os.path.exists(out), "nothing is made before the command line is checked")
+        for command in (["valerant_explore"], ["valerant_export", "--run", out]):
+            with self.subTest(command=command):
+                status, _, err = run([tool(command[0]), *command[1:]])  # --out left out
+                self.assertEqual(status, USAGE_ERROR, err)
+                self.assertIn("--out is required", err)
+        status, _, err = run([tool("valerant_explore"), "--force", "--resume", "--out", out])
+        self.assertEqual(status, USAGE_ERROR, err)
+        self.assertIn("--force excludes --resume", err)
+        status, _, err = run([tool("valerant_explore"), "--resume", "--budget", "3", "--out", out])
+        self.assertEqual(status, USAGE_ERROR, err)
+        self.assertIn("--resume: takes the run's own configuration (its config.yaml); leave out --budget", err)
+        status, _, err = run([tool("valerant_bench")])
+        self.assertEqual(status, USAGE_ERROR, err)
+        self.assertIn("subcommand", err)
 
     def test_truncated_config_is_an_error_naming_the_key(self):
         with open(os.path.join(ROOT, "config", "valerant.yaml")) as handle:
@@ -322,7 +397,7 @@ class Faults(unittest.TestCase):
     def test_eval_budget_is_checked_before_any_run(self):
         out = self.folder("eval_budget")
         status, _, err = run([tool("valerant_eval"), "--maps", "oa_dm1", "--budget", "1000000000", "--out", out])
-        self.assertEqual(status, 1)
+        self.assertEqual(status, USAGE_ERROR)
         self.assertIn("--budget 1000000000: policy.budget_steps: value", err)
         self.assertFalse(os.path.exists(os.path.join(out, "runs")))
 

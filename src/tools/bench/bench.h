@@ -1,15 +1,21 @@
 #pragma once
-// The benchmarks of valerant_bench, one per file; each parses its own options and
-// returns the JSON line the tool prints.
+// The benchmarks of valerant_bench, one per file. Each adds its subcommand and flags to
+// the tool's command line and returns the run that reads them and returns the JSON
+// line the tool prints.
+#include <functional>
 #include <nlohmann/json.hpp>
+
+#include "../command_line.h"
 
 namespace valerant::tools {
 
-nlohmann::json benchRender(int argc, char** argv);
-nlohmann::json benchSlam(int argc, char** argv);
-nlohmann::json benchGraph(int argc, char** argv);
-nlohmann::json benchMap(int argc, char** argv);
-nlohmann::json benchDepth(int argc, char** argv);
+using BenchRun = std::function<nlohmann::json()>;
+
+BenchRun addBenchRender(CLI::App& bench);
+BenchRun addBenchSlam(CLI::App& bench);
+BenchRun addBenchGraph(CLI::App& bench);
+BenchRun addBenchMap(CLI::App& bench);
+BenchRun addBenchDepth(CLI::App& bench);
 
 // Peak resident memory of this process so far.
 double peakResidentMiB();

@@ -13,11 +13,12 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
-#include "../cli_args.h"
+#include "../tool_config.h"
 #include "bench.h"
 #include "valerant/config/package_dir.h"
 #include "valerant/slam/depth_prior.h"
@@ -104,17 +105,14 @@ class ScoreMeans {
   Mean all_, rotation_;
 };
 
-}  // namespace
-
-nlohmann::json benchDepth(int argc, char** argv) {
-  CliArgs args(argc, argv, {"--maps", "--spawns", "--model", "--config"});
-  Config config = loadConfig(args.get("--config", defaultConfigPath()));
-  const std::vector<std::string> maps = args.list("--maps", config.world.map);
-  const int spawns = args.integer("--spawns", 2);
-  if (spawns < 1) throw InputError("--spawns", "must be >= 1");
+// Without --maps the configuration's map; without --model the configuration's model.
+nlohmann::json runDepthBench(Config config, const std::optional<std::string>& maps_flag, int spawns,
+                             const std::optional<std::string>& model_flag) {
+  const std::vector<std::string> maps =
+      maps_flag ? commaList("--maps", *maps_flag) : std::vector<std::string>{config.world.map};
   // --model is relative to the working directory, the configured model to the package folder.
-  const std::string model = args.has("--model") ? std::filesystem::absolute(args.get("--model")).string()
-                                                : packageFilePath(config.slam.depth_prior_model);
+  const std::string model =
+      model_flag ? std::filesystem::absolute(*model_flag).string() : packageFilePath(config.slam.depth_prior_model);
   std::vector<ActionSequence> sequences;  // validated before any map is loaded
   for (const char* c : {"uw", "jw", "lw", "jq", "lq"}) sequences.push_back(makeActionSequence(c, config));
   cv::setNumThreads(1);
@@ -194,6 +192,29 @@ nlohmann::json benchDepth(int argc, char** argv) {
           {"prior", prior_json},
           {"plane_sweep", sweep_json},
           {"model", model}};
+}
+
+}  // namespace
+
+BenchRun addBenchDepth(CLI::App& bench) {
+  CLI::App* app = bench.add_subcommand("depth",
+                                       "the learned depth prior's accuracy and time per frame against the "
+                                       "engine's depth, next to the visual SLAM's plane-sweep depth");
+  auto tool_config = std::make_shared<ToolConfig>(*app);
+  auto maps = std::make_shared<std::string>();
+  auto spawns = std::make_shared<int>(2);
+  auto model = std::make_shared<std::string>();
+  const CLI::Option* maps_flag =
+      app->add_option("--maps", *maps, "maps, comma-separated (default: the configuration's world.map)")
+          ->type_name("LIST");
+  addInteger(*app, "--spawns", *spawns, "spawn points 0 to N-1 of every map", 1);
+  const CLI::Option* model_flag =
+      app->add_option("--model", *model, "ONNX depth model (default: the configuration's slam.depth_prior_model)")
+          ->type_name("FILE");
+  return [=] {
+    return runDepthBench(tool_config->document().parse(), maps_flag->count() ? std::optional(*maps) : std::nullopt,
+                         *spawns, model_flag->count() ? std::optional(*model) : std::nullopt);
+  };
 }
 
 }  // namespace valerant::tools

@@ -6,16 +6,20 @@
 //                  branch-evaluate-commit loop, what the graph's messaging slows down)
 //   process_ratio  graph / in-process wall time of the whole command, including the
 //                  master, node start-up and map loading in every node
-// and whether both made the same decisions (decisions.jsonl without timings).
+// and whether both made the same decisions (decisions.jsonl without timings). Both runs
+// read the configuration the command line makes (--config, the flags, --set), written to
+// OUT/config.yaml, with the launch arguments that would override it set from it.
 #include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 
 #include "../child_process.h"
-#include "../cli_args.h"
+#include "../tool_config.h"
 #include "bench.h"
+#include "valerant/common/output_file.h"
 #include "valerant/config/config.h"
 
 namespace valerant::tools {
@@ -52,38 +56,38 @@ EpisodeRun runEpisode(const std::vector<std::string>& argv, const std::string& d
   return run;
 }
 
-}  // namespace
+std::string boolText(bool value) { return value ? "true" : "false"; }
 
-nlohmann::json benchGraph(int argc, char** argv) {
-  CliArgs args(argc, argv, {"--map", "--spawn", "--seed", "--slam", "--budget", "--config", "--out"});
-  const std::string config_file = fs::absolute(args.get("--config", defaultConfigPath())).string();
-  const Config config = loadConfig(config_file);
-  const std::string map = args.get("--map", config.world.map);
-  const std::string spawn = std::to_string(args.integer("--spawn", config.world.spawn));
-  const std::string seed = std::to_string(args.integer("--seed", 0));
-  const std::string slam = args.get("--slam", config.slam.backend);
-  const std::string budget = std::to_string(args.integer("--budget", 5));
-  const std::string out = fs::absolute(args.required("--out")).string();
+nlohmann::json runGraphBench(const ConfigDocument& document, const std::string& out_flag) {
+  const Config config = document.parse();
+  const std::string out = fs::absolute(out_flag).string();
+  fs::create_directories(out);
+  const std::string config_file = out + "/config.yaml";
+  writeFileAtomically(config_file, document.yaml());
+  const std::string map = config.world.map, slam = config.slam.backend;
+  const std::string spawn = std::to_string(config.world.spawn), seed = std::to_string(config.world.seed),
+                    budget = std::to_string(config.policy.budget_steps);
   const std::string explore = siblingTool("valerant_explore");
 
   const EpisodeRun in_process =
-      runEpisode({explore, "--map", map, "--spawn", spawn, "--seed", seed, "--slam", slam, "--budget", budget,
-                  "--config", config_file, "--force", "--out", out + "/in_process"},
-                 out + "/in_process");
+      runEpisode({explore, "--config", config_file, "--force", "--out", out + "/in_process"}, out + "/in_process");
   // A private master on its own port, so a running ROS system is not disturbed.
   const std::string port = std::to_string(20000 + getpid() % 20000);
-  const EpisodeRun graph = runEpisode(
-      {"roslaunch", "-p", port, "valerant", "explore.launch", "map:=" + map, "spawn:=" + spawn, "seed:=" + seed,
-       "slam:=" + slam, "budget:=" + budget, "config_file:=" + config_file,
-       "width:=" + std::to_string(config.world.width), "height:=" + std::to_string(config.world.height),
-       "output_dir:=" + out + "/graph"},
-      out + "/graph", {{"ROS_MASTER_URI", "http://localhost:" + port}});
+  const EpisodeRun graph =
+      runEpisode({"roslaunch", "-p", port, "valerant", "explore.launch", "config_file:=" + config_file, "map:=" + map,
+                  "spawn:=" + spawn, "seed:=" + seed, "slam:=" + slam, "budget:=" + budget,
+                  "width:=" + std::to_string(config.world.width), "height:=" + std::to_string(config.world.height),
+                  "policy:=" + config.policy.kind, "rf:=" + boolText(config.floor.enabled),
+                  "col_pc:=" + boolText(config.collision.pointcloud_enabled),
+                  "col_depth:=" + boolText(config.collision.depth_enabled),
+                  "dp:=" + boolText(config.dead_pocket.enabled), "output_dir:=" + out + "/graph"},
+                 out + "/graph", {{"ROS_MASTER_URI", "http://localhost:" + port}});
 
   return {{"bench", "graph"},
           {"map", map},
-          {"spawn", std::stoi(spawn)},
+          {"spawn", config.world.spawn},
           {"slam", slam},
-          {"budget", std::stoi(budget)},
+          {"budget", config.policy.budget_steps},
           {"committed_steps", in_process.decisions.size()},
           {"in_process_episode_s", in_process.episode_seconds},
           {"graph_episode_s", graph.episode_seconds},
@@ -93,6 +97,23 @@ nlohmann::json benchGraph(int argc, char** argv) {
           {"process_ratio", graph.process_seconds / in_process.process_seconds},
           {"same_decisions", graph.decisions == in_process.decisions},
           {"out", out}};
+}
+
+}  // namespace
+
+BenchRun addBenchGraph(CLI::App& bench) {
+  CLI::App* app = bench.add_subcommand("graph",
+                                       "one episode in process and through the ROS node graph: wall-time "
+                                       "ratio and whether the decisions agree");
+  auto tool_config = std::make_shared<ToolConfig>(*app);
+  tool_config->keyFlag("--map", "world.map", "MAP", "map name or PK3:MAP");
+  tool_config->keyFlag("--spawn", "world.spawn", "INT", "spawn point index");
+  tool_config->keyFlag("--seed", "world.seed", "INT", "random seed", "0");
+  tool_config->keyFlag("--slam", "slam.backend", "visual|oracle", "SLAM backend");
+  tool_config->keyFlag("--budget", "policy.budget_steps", "INT", "steps to commit", "5");
+  auto out = std::make_shared<std::string>();
+  app->add_option("--out", *out, "output folder (config.yaml, in_process/, graph/)")->type_name("DIR")->required();
+  return [tool_config, out] { return runGraphBench(tool_config->document(), *out); };
 }
 
 }  // namespace valerant::tools

@@ -2,12 +2,13 @@
 // floor grid) current while an episode grows, replaying a finished run's keyframes in
 // `--updates` equal groups as map_fusion receives them: rebuilt from every keyframe
 // after each update (MapFusion) against extended by the new ones (LiveMap), and whether
-// the two end with the same products.
+// the two end with the same products. The configuration is the run's own (its
+// config.yaml), so no --config or --set.
 #include <octomap/ColorOcTree.h>
 
+#include <memory>
 #include <tuple>
 
-#include "../cli_args.h"
 #include "../thread_clock.h"
 #include "bench.h"
 #include "valerant/map/live_map.h"
@@ -38,14 +39,7 @@ bool sameCloud(const std::vector<FusedPoint>& a, const std::vector<FusedPoint>& 
   return true;
 }
 
-}  // namespace
-
-nlohmann::json benchMap(int argc, char** argv) {
-  CliArgs args(argc, argv, {"--run", "--updates"});
-  const std::string dir = args.get("--run", "");
-  if (dir.empty()) throw InputError("--run", "a finished run directory is required");
-  const long updates = args.integer("--updates", 15);
-  if (updates < 1) throw InputError("--updates", "must be >= 1");
+nlohmann::json runMapBench(const std::string& dir, long updates) {
   const RunMap run = loadRunMap(dir);
   const Config& config = run.config;
   const CoverageGrid grid = run.grid();
@@ -88,6 +82,19 @@ nlohmann::json benchMap(int argc, char** argv) {
           {"speedup", rebuild_s / live_s},
           {"same_products", same},
           {"peak_rss_mib", peakResidentMiB()}};
+}
+
+}  // namespace
+
+BenchRun addBenchMap(CLI::App& bench) {
+  CLI::App* app = bench.add_subcommand("map",
+                                       "cost of the live map products (cloud, OctoMap, floor grid) as a "
+                                       "finished run's map grows");
+  auto dir = std::make_shared<std::string>();
+  auto updates = std::make_shared<long>(15);
+  app->add_option("--run", *dir, "finished run folder")->type_name("DIR")->required();
+  addInteger(*app, "--updates", *updates, "equal groups the keyframes arrive in", 1L);
+  return [dir, updates] { return runMapBench(*dir, *updates); };
 }
 
 }  // namespace valerant::tools

@@ -3,8 +3,8 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <memory>
 
-#include "../cli_args.h"
 #include "../tool_config.h"
 #include "bench.h"
 #include "valerant/world/quake3/quake3_world.h"
@@ -17,12 +17,9 @@ double peakResidentMiB() {
   return usage.ru_maxrss / 1024.0;  // Linux reports KiB
 }
 
-nlohmann::json benchRender(int argc, char** argv) {
-  CliArgs args(argc, argv, {"--map", "--frames", "--spawn", "--config"});
-  const Config config = toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}}).parse();
-  const long frames = args.integer("--frames", 1000);
-  if (frames < 1) throw InputError("--frames", "must be >= 1");
+namespace {
 
+nlohmann::json runRenderBench(const Config& config, long frames) {
   const auto load_start = std::chrono::steady_clock::now();
   auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
   quake3::Quake3World world(map, config);
@@ -49,6 +46,20 @@ nlohmann::json benchRender(int argc, char** argv) {
           {"load_seconds", load_s},
           {"frames_per_second", rendered / seconds},
           {"peak_rss_mib", peakResidentMiB()}};
+}
+
+}  // namespace
+
+BenchRun addBenchRender(CLI::App& bench) {
+  CLI::App* app = bench.add_subcommand("render",
+                                       "frames/s of colour + depth rendering along committed rollouts, "
+                                       "peak memory");
+  auto tool_config = std::make_shared<ToolConfig>(*app);
+  tool_config->keyFlag("--map", "world.map", "MAP", "map name or PK3:MAP");
+  tool_config->keyFlag("--spawn", "world.spawn", "INT", "spawn point index");
+  auto frames = std::make_shared<long>(1000);
+  addInteger(*app, "--frames", *frames, "frames to render", 1L);
+  return [tool_config, frames] { return runRenderBench(tool_config->document().parse(), *frames); };
 }
 
 }  // namespace valerant::tools

@@ -6,11 +6,11 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 #include <opencv2/core.hpp>
 
-#include "../cli_args.h"
-#include "../tool_config.h"
 #include "../thread_clock.h"
+#include "../tool_config.h"
 #include "bench.h"
 #include "valerant/slam/rollout_truth.h"
 #include "valerant/slam/slam_factory.h"
@@ -34,17 +34,12 @@ int pinToOneCpu() {
   return -1;
 }
 
-}  // namespace
-
-nlohmann::json benchSlam(int argc, char** argv) {
-  CliArgs args(argc, argv, {"--map", "--spawn", "--candidates", "--slam", "--repeats", "--config"});
-  Config config =
-      toolConfigDocument(args, {{"--map", "world.map"}, {"--spawn", "world.spawn"}, {"--slam", "slam.backend"}}).parse();
+nlohmann::json runSlamBench(const Config& config, const std::string& candidate_list, long repeats) {
   const std::string backend = config.slam.backend;
-  const long repeats = args.integer("--repeats", 3);
-  if (repeats < 1) throw InputError("--repeats", "must be >= 1");
   std::vector<ActionSequence> sequences;  // validated before the map is loaded
-  for (const auto& c : args.list("--candidates", "uw,jw,lw,jq,lq")) sequences.push_back(makeActionSequence(c, config));
+  checkFlagValues([&] {
+    for (const auto& c : commaList("--candidates", candidate_list)) sequences.push_back(makeActionSequence(c, config));
+  });
   const int cpu = pinToOneCpu();
   cv::setNumThreads(1);
 
@@ -114,6 +109,27 @@ nlohmann::json benchSlam(int argc, char** argv) {
           {"snapshot_restore_ms_max", worst_snapshot_restore_ms},
           {"candidates", candidates},
           {"peak_rss_mib", peakResidentMiB()}};
+}
+
+}  // namespace
+
+BenchRun addBenchSlam(CLI::App& bench) {
+  CLI::App* app = bench.add_subcommand("slam",
+                                       "SLAM frames/s per branch on one core and the cost of snapshot + "
+                                       "restore");
+  auto tool_config = std::make_shared<ToolConfig>(*app);
+  tool_config->keyFlag("--map", "world.map", "MAP", "map name or PK3:MAP");
+  tool_config->keyFlag("--spawn", "world.spawn", "INT", "spawn point index");
+  tool_config->keyFlag("--slam", "slam.backend", "visual|oracle", "SLAM backend");
+  auto candidates = std::make_shared<std::string>("uw,jw,lw,jq,lq");
+  auto repeats = std::make_shared<long>(3);
+  app->add_option("--candidates", *candidates, "candidates or key strings, comma-separated")
+      ->type_name("LIST")
+      ->capture_default_str();
+  addInteger(*app, "--repeats", *repeats, "times each candidate is tracked", 1L);
+  return [tool_config, candidates, repeats] {
+    return runSlamBench(tool_config->document().parse(), *candidates, *repeats);
+  };
 }
 
 }  // namespace valerant::tools
