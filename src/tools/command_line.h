@@ -78,11 +78,13 @@ inline std::vector<std::string> commaList(const std::string& flag, const std::st
   return items;
 }
 
-// The conventions every tool's command line shares: a stray word or an unknown flag is
-// an error naming it (CLI11's own message lists such words backwards), and the help ends
-// with the exit statuses.
+// The conventions every tool's command line shares, for the flags added after it: a
+// stray word or an unknown flag is an error naming it (CLI11's own message lists such
+// words backwards), a flag given twice takes its last value (so a script can append an
+// override), and the help ends with the exit statuses.
 inline void useToolConventions(CLI::App& app) {
   app.allow_extras();
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.get_formatter()->column_width(34);
   app.footer("Exit status: 0 done, 1 failed, 2 bad command line.");
 }

@@ -25,6 +25,7 @@ class ToolConfig {
     set_option_ =
         app.add_option("--set", sets_, "override a configuration key, e.g. policy.budget_steps=30 (repeatable)")
             ->type_name("KEY=VALUE")
+            ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
             ->allow_extra_args(false);
   }
 
