@@ -9,6 +9,9 @@
 // wait_for_subscribers, subscriber_timeout_s. A backend that fails to load (a corrupt
 // bag, an unknown map) is logged and every request is answered with that error.
 #include <actionlib/server/simple_action_server.h>
+#include <memory>
+#include <mutex>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -30,13 +33,12 @@
 #include "valerant/ros/guarded.h"
 #include "valerant/ros/node_main.h"
 #include "valerant/world/quake3/quake3_world.h"
+#include "valerant/world/quake3/units.h"
 
 using namespace valerant;
 using valerant::bridge::guarded;
 
 namespace {
-
-constexpr double kGameUnitsPerMetre = 32;  // Quake III convention
 
 // What the server keeps of the committed state for digests and viewers.
 struct Committed {
@@ -83,8 +85,15 @@ class WorldModelServer {
       load_error_ = e.what();
       ROS_ERROR_STREAM("world_model_server: " << load_error_ << " (serving errors until fixed)");
     }
-    timer_ = nh.createTimer(::ros::Duration(1.0 / valerant::bridge::requiredDouble(pnh, "publish_rate_hz")),
-                            [this](const ::ros::TimerEvent&) { publishCommitted(); });
+    // The viewer's camera image and tf run on a queue and thread of their own: a rollout's
+    // callback renders, encodes and publishes up to 97 frames, and would hold a timer on
+    // the node's one spinner thread for that long.
+    ::ros::NodeHandle timer_nh(nh);
+    timer_nh.setCallbackQueue(&timer_queue_);
+    timer_ = timer_nh.createTimer(::ros::Duration(1.0 / valerant::bridge::requiredDouble(pnh, "publish_rate_hz")),
+                                  [this](const ::ros::TimerEvent&) { publishCommitted(); });
+    timer_spinner_ = std::make_unique<::ros::AsyncSpinner>(1, &timer_queue_);
+    timer_spinner_->start();
   }
 
  private:
@@ -102,9 +111,9 @@ class WorldModelServer {
     saved_.clear();
     current_ = 0;
     const Rollout context = world_->context();
-    committed_ = {};
-    committed_.frames = context.frames.size();
-    noteCommitted(context);
+    Committed start;
+    start.frames = context.frames.size();
+    setCommitted(withRollout(start, context));
     publishCameraInfo();
     valerant::Context msg;
     msg.header.stamp = ::ros::Time::now();
@@ -119,9 +128,17 @@ class WorldModelServer {
     return *world_;
   }
 
-  void noteCommitted(const Rollout& r) {
-    if (!r.truth.empty()) committed_.camera_to_world = r.truth.back().camera_to_world;
-    if (!r.frames.empty()) committed_.image = r.frames.back();
+  static Committed withRollout(Committed c, const Rollout& r) {
+    if (!r.truth.empty()) c.camera_to_world = r.truth.back().camera_to_world;
+    if (!r.frames.empty()) c.image = r.frames.back();
+    return c;
+  }
+
+  // Only service and action callbacks (the node's spinner thread) write committed_; the
+  // timer thread reads it under the lock.
+  void setCommitted(const Committed& c) {
+    std::lock_guard<std::mutex> lock(committed_mutex_);
+    committed_ = c;
   }
 
   valerant::StateDigest digest() const {
@@ -219,7 +236,7 @@ class WorldModelServer {
   bool restore(valerant::Restore::Request& req, valerant::Restore::Response& res) {
     return guarded("world_model/restore", res, [&] {
       world().restore(req.checkpoint_id);
-      committed_ = saved_.at(req.checkpoint_id);
+      setCommitted(saved_.at(req.checkpoint_id));
       current_ = req.checkpoint_id;
       cache_.clear();
       res.state = digest();
@@ -242,8 +259,9 @@ class WorldModelServer {
         throw InputError("rollout " + std::to_string(req.rollout_id), "is a rollout of " + it->second.rollout.candidate +
                                                                            ", not of " + req.candidate);
       world().commit(it->second.rollout);
-      committed_.frames += it->second.rollout.frames.size();
-      noteCommitted(it->second.rollout);
+      Committed next = committed_;
+      next.frames += it->second.rollout.frames.size();
+      setCommitted(withRollout(next, it->second.rollout));
       current_ = 0;
       res.state = digest();
     });
@@ -281,9 +299,14 @@ class WorldModelServer {
   }
 
   void publishCommitted() {
+    Committed committed;
+    {
+      std::lock_guard<std::mutex> lock(committed_mutex_);
+      committed = committed_;
+    }
     const ::ros::Time now = ::ros::Time::now();
-    if (!committed_.image.empty() && camera_image_.getNumSubscribers() > 0) {
-      sensor_msgs::Image image = valerant::bridge::toImageMsg(committed_.image);
+    if (!committed.image.empty() && camera_image_.getNumSubscribers() > 0) {
+      sensor_msgs::Image image = valerant::bridge::toImageMsg(committed.image);
       image.header.stamp = now;
       image.header.frame_id = "camera";
       camera_image_.publish(image);
@@ -292,8 +315,8 @@ class WorldModelServer {
     t.header.stamp = now;
     t.header.frame_id = "gt_world";
     t.child_frame_id = "gt_camera";
-    const Eigen::Vector3d p = committed_.camera_to_world.translation() / kGameUnitsPerMetre;
-    const Eigen::Quaterniond q(committed_.camera_to_world.linear());
+    const Eigen::Vector3d p = committed.camera_to_world.translation() / quake3::kUnitsPerMetre;
+    const Eigen::Quaterniond q(committed.camera_to_world.linear());
     t.transform.translation.x = p.x(), t.transform.translation.y = p.y(), t.transform.translation.z = p.z();
     t.transform.rotation.x = q.x(), t.transform.rotation.y = q.y(), t.transform.rotation.z = q.z();
     t.transform.rotation.w = q.w();
@@ -310,6 +333,7 @@ class WorldModelServer {
   std::string load_error_;
   CheckpointId current_ = 0;
   std::map<RolloutId, CachedRollout> cache_;  // rollouts since the latest checkpoint
+  std::mutex committed_mutex_;
   Committed committed_;
   std::map<CheckpointId, Committed> saved_;
   actionlib::SimpleActionServer<valerant::RolloutAction> rollout_server_;
@@ -317,7 +341,10 @@ class WorldModelServer {
   ::ros::Publisher camera_info_, context_, camera_image_;
   std::vector<::ros::ServiceServer> services_;
   tf2_ros::TransformBroadcaster tf_;
+  // Declared last: the spinner thread stops before the timer and the state it reads go.
+  ::ros::CallbackQueue timer_queue_;
   ::ros::Timer timer_;
+  std::unique_ptr<::ros::AsyncSpinner> timer_spinner_;
 };
 
 }  // namespace
