@@ -52,7 +52,7 @@ Rollout WorldModelClient::context() const {
     if (!f.rgb.data.empty()) r.frames.push_back(valerant::bridge::fromCompressedImageMsg(f.rgb));
     for (const auto& t : f.truth) {
       r.truth.push_back(fromMsg(t));
-      // The graph's rollouts carry no truth depth (README: completeness is null there);
+      // The graph's rollouts carry no truth depth (docs/outputs.md: completeness is null there);
       // the context's alone would make a figure of the first frames only.
       r.truth.back().depth_m = cv::Mat();
     }
