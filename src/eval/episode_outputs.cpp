@@ -6,6 +6,7 @@
 #include "valerant/common/error.h"
 #include "valerant/common/output_file.h"
 #include "valerant/common/tum_trajectory.h"
+#include "valerant/eval/coverage_curve.h"
 #include "valerant/eval/episode_truth.h"
 #include "valerant/eval/map_accuracy.h"
 #include "valerant/explore/episode_json.h"
@@ -42,6 +43,7 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
       mapAccuracy(map_metres, quake3::sampleSurfaces(map.geometry, kSurfaceSamplesPerSquareMetre, config.world.seed),
                   episode.truth(),
                   CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg));
+  const CoverageCurve curve = coverageByCommittedStep(episode.history(), truth.observed_percent_by_step);
   int penetration_free_steps = 0;  // committed steps none of whose frames entered solid
   for (const auto& s : episode.history()) penetration_free_steps += s.chosen >= 0 && stepInSolidFrames(s) == 0;
   nlohmann::json events = nlohmann::json::array();
@@ -69,6 +71,10 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
           {"ate_rmse_m", truth.alignment_rmse_m},
           {"ate_percent", truth.ate_percent},
           {"observed_percent_by_step", truth.observed_percent_by_step},
+          {"coverage_curve",
+           {{"committed_step", curve.committed_step},
+            {"observed_percent", curve.observed_percent},
+            {"wall_seconds", curve.wall_seconds}}},
           {"accuracy_median_m", accuracy.median_m},
           {"accuracy_p90_m", accuracy.p90_m},
           {"completeness_percent", accuracy.completeness_percent},
