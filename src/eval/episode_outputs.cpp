@@ -1,5 +1,6 @@
 #include "valerant/eval/episode_outputs.h"
 
+#include <chrono>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
@@ -101,13 +102,20 @@ nlohmann::json runReportHeader(const std::string& tool, const Config& config) {
           {"dp", config.dead_pocket.enabled}};
 }
 
-void snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
-                       const nlohmann::json& header) {
-  if (step.chosen < 0 && !step.rewind) return;  // a stall leaves the map as it was
+double snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
+                         const nlohmann::json& header, SnapshotSchedule& schedule) {
+  if (step.chosen < 0 && !step.rewind) return 0;  // a stall leaves the map as it was
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point t) { return std::chrono::duration<double>(t.time_since_epoch()).count(); };
+  const double start = seconds(Clock::now());
+  if (!schedule.due(start)) return 0;
   nlohmann::json report = header;
   report["steps"] = step.step;
   report["committed_steps"] = episode.committedSteps();
   saveRunSnapshot(out, runMapOf(episode), report);
+  const double end = seconds(Clock::now());
+  schedule.written(start, end);
+  return end - start;
 }
 
 void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, const std::string& out, bool overwrite,

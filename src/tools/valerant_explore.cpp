@@ -11,8 +11,8 @@
 // for valerant_export (map/run_map.h: keyframes.pcd, keyframes.txt, config.yaml),
 // trajectory.txt (TUM, SLAM frame), gt_trajectory.txt (TUM, BSP frame, game units),
 // decisions.jsonl, topdown.png and, last, report.json into DIR; prints one JSON summary
-// line. After every step that changes the map, DIR/snapshot holds the map of the
-// committed steps. After every step, one progress line on stderr
+// line. After a step that changes the map, DIR/snapshot holds the map of the committed
+// steps (on long runs not after every step: eval/snapshot_schedule.h). After every step, one progress line on stderr
 // (explore/progress_line.h): step, committed steps, the candidate, the reachable floor
 // observed, keyframes, resident memory and seconds. A folder holding a run is an error unless --force (replace it) or,
 // for an unfinished run, --resume (eval/run_directory.h). The flags that stand for
@@ -116,7 +116,8 @@ int main(int argc, char** argv) {
         *map->collision, world.map().bsp.spawnPoints().at(config.world.spawn).origin));
     const auto episode_start = Clock::now();
     auto last_line = episode_start;
-    double snapshot_seconds = 0;  // writing the map after each step: outside the steps' own timings
+    SnapshotSchedule snapshots;
+    double snapshot_seconds = 0;  // writing the map snapshots: outside the steps' own timings
 
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
@@ -131,9 +132,7 @@ int main(int argc, char** argv) {
           } else {
             decisions.writeLine(decision.dump());
           }
-          const auto snapshot_start = Clock::now();
-          snapshotAfterStep(out, episode, r, report);
-          snapshot_seconds += secondsBetween(snapshot_start, Clock::now());
+          snapshot_seconds += snapshotAfterStep(out, episode, r, report, snapshots);
           StepProgress progress;
           progress.observed_percent = coverage.update(episode);
           progress.resident_bytes = residentMemory().current_bytes;
