@@ -149,7 +149,9 @@ int main(int argc, char** argv) {
                                                      " steps, but the resumed episode ended after " +
                                                      std::to_string(episode.history().size()));
 
+    const auto outputs_start = Clock::now();
     writeEpisodeOutputs(episode, &world.map(), out, true, report);
+    report["output_seconds"] = secondsBetween(outputs_start, Clock::now());  // exports and ground truth
     // A signal during the writes above still counts: the report says what the exit status says.
     const int signal = g_signal.load();
     report["interrupted"] = signal != 0;
