@@ -12,10 +12,11 @@
 // trajectory.txt (TUM, SLAM frame), gt_trajectory.txt (TUM, BSP frame, game units),
 // decisions.jsonl, topdown.png and, last, report.json into DIR; prints one JSON summary
 // line. After a step that changes the map, DIR/snapshot holds the map of the committed
-// steps (on long runs not after every step: eval/snapshot_schedule.h). After every step, one progress line on stderr
-// (explore/progress_line.h): step, committed steps, the candidate, the reachable floor
-// observed, keyframes, resident memory and seconds. A folder holding a run is an error unless --force (replace it) or,
-// for an unfinished run, --resume (eval/run_directory.h). The flags that stand for
+// steps (on long runs not after every step: eval/snapshot_schedule.h). After every
+// step, one progress line on stderr (explore/progress_line.h): step, committed steps,
+// the candidate, the reachable floor observed, keyframes, resident memory and seconds.
+// A folder holding a run is an error unless --force (replace it) or, for an unfinished
+// run, --resume (eval/run_directory.h). The flags that stand for
 // configuration keys go through the configuration's checks (tools/tool_config.h).
 // Ctrl-C (or SIGTERM) stops after the current step and still writes everything, then
 // exits 130 (143); a second signal ends the process at once, leaving an unfinished run.
