@@ -9,7 +9,10 @@ namespace valerant {
 
 CoverageCurve coverageByCommittedStep(const std::vector<StepRecord>& history,
                                       const std::vector<double>& observed_percent_by_step) {
-  if (history.size() != observed_percent_by_step.size())
+  // An empty list: the map was never tied to the world (nothing fused), 0 % throughout.
+  const std::vector<double> observed =
+      observed_percent_by_step.empty() ? std::vector<double>(history.size(), 0.0) : observed_percent_by_step;
+  if (history.size() != observed.size())
     throw InputError("observed_percent_by_step", std::to_string(observed_percent_by_step.size()) +
                                                      " values for " + std::to_string(history.size()) + " steps");
   CoverageCurve curve;
@@ -25,7 +28,7 @@ CoverageCurve coverageByCommittedStep(const std::vector<StepRecord>& history,
       curve.wall_seconds.resize(k);
     }
     curve.committed_step[k - 1] = static_cast<int>(k);
-    curve.observed_percent[k - 1] = observed_percent_by_step[i];
+    curve.observed_percent[k - 1] = observed[i];
     curve.wall_seconds[k - 1] = wall;
   }
   // Steps a later rewind dropped for good are no part of the kept path.

@@ -39,4 +39,6 @@ TEST(CoverageCurve, StepsDroppedByAFinalRewindAreNotInIt) {
   EXPECT_EQ(c.wall_seconds, (std::vector<double>{1}));
   EXPECT_TRUE(coverageByCommittedStep({}, {}).committed_step.empty());
   EXPECT_THROW(coverageByCommittedStep(history, {1}), InputError);
+  // A map never tied to the world has no per-step figures: 0 % at every kept step.
+  EXPECT_EQ(coverageByCommittedStep(history, {}).observed_percent, (std::vector<double>{0}));
 }

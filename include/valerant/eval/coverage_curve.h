@@ -17,8 +17,9 @@ struct CoverageCurve {
   std::vector<double> wall_seconds;       // cumulative, at each
 };
 
-// `observed_percent_by_step`: one value per `history` entry (episode_truth.h); throws
-// InputError when the lengths differ.
+// `observed_percent_by_step`: one value per `history` entry (episode_truth.h), or none
+// when the map was never tied to the world (then 0 at every step); throws InputError
+// for any other length.
 CoverageCurve coverageByCommittedStep(const std::vector<StepRecord>& history,
                                       const std::vector<double>& observed_percent_by_step);
 
