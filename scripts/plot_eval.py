@@ -6,7 +6,8 @@
 
 plots.json: {"configs": [names, in the report's order],
              "curves": [{"name", "title", "xlabel", "ylabel",
-                         "series": {config: [value at step 1, 2, ...]}}],
+                         "series": {config: [value at step 1, 2, ...]},
+                         "x": {config: [x of each value]} (optional: steps 1, 2, ...)}],
              "bars":   [{"name", "title", "ylabel", "values": {config: value or null}}]}
 A null value is a figure no run recorded: its bar is absent and labelled n/a.
 Exit status 1 with a message naming this script when matplotlib is missing."""
@@ -19,7 +20,7 @@ try:
 
     matplotlib.use("Agg")  # files only, no display
     import matplotlib.pyplot as plt
-    from matplotlib.ticker import MaxNLocator, MultipleLocator
+    from matplotlib.ticker import MaxNLocator, MultipleLocator, NullLocator
 except ImportError as error:
     sys.exit("%s: matplotlib is missing (%s): apt-get install python3-matplotlib" % (sys.argv[0], error))
 
@@ -51,20 +52,30 @@ def save(figure, folder, name):
 
 def plot_curves(spec, colour, folder):
     figure, axes = plt.subplots(figsize=(8.4, 4.2))
+    x = spec.get("x")
     for config, values in spec["series"].items():
-        steps = list(range(1, len(values) + 1))
-        axes.plot(steps, values, marker="o", markersize=3, linewidth=1.8, color=colour[config], label=config)
+        # A configuration without the curve (runs written before it existed) draws nothing.
+        if not values:
+            continue
+        xs = x[config] if x is not None else list(range(1, len(values) + 1))
+        # Long runs: markers only while they stay apart.
+        marker = "o" if len(values) <= 40 else None
+        axes.plot(xs, values, marker=marker, markersize=3, linewidth=1.8, color=colour[config], label=config)
     axes.set_title(spec["title"])
     axes.set_xlabel(spec["xlabel"])
     axes.set_ylabel(spec["ylabel"])
-    # Steps are whole numbers: a tick per step up to 20 steps, fewer whole ones beyond.
-    steps = max([len(values) for values in spec["series"].values()] + [1])
-    axes.xaxis.set_major_locator(MultipleLocator(1) if steps <= 20 else MaxNLocator(integer=True))
-    axes.xaxis.set_minor_locator(MultipleLocator(1))
-    axes.set_xlim(left=0.5)
+    if x is None:
+        # Steps are whole numbers: a tick per step up to 20 steps, fewer whole ones beyond.
+        steps = max([len(values) for values in spec["series"].values()] + [1])
+        axes.xaxis.set_major_locator(MultipleLocator(1) if steps <= 20 else MaxNLocator(integer=True))
+        axes.xaxis.set_minor_locator(MultipleLocator(1) if steps <= 100 else NullLocator())
+        axes.set_xlim(left=0.5)
+    else:
+        axes.set_xlim(left=0)
     axes.set_ylim(bottom=0)
     axes.grid(True, alpha=0.3)
-    legend(axes)
+    if axes.get_legend_handles_labels()[0]:
+        legend(axes)
     save(figure, folder, spec["name"])
 
 

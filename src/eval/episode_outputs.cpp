@@ -1,11 +1,13 @@
 #include "valerant/eval/episode_outputs.h"
 
+#include <chrono>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
 #include "valerant/common/error.h"
 #include "valerant/common/output_file.h"
 #include "valerant/common/tum_trajectory.h"
+#include "valerant/eval/coverage_curve.h"
 #include "valerant/eval/episode_truth.h"
 #include "valerant/eval/map_accuracy.h"
 #include "valerant/explore/episode_json.h"
@@ -42,6 +44,7 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
       mapAccuracy(map_metres, quake3::sampleSurfaces(map.geometry, kSurfaceSamplesPerSquareMetre, config.world.seed),
                   episode.truth(),
                   CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg));
+  const CoverageCurve curve = coverageByCommittedStep(episode.history(), truth.observed_percent_by_step);
   int penetration_free_steps = 0;  // committed steps none of whose frames entered solid
   for (const auto& s : episode.history()) penetration_free_steps += s.chosen >= 0 && stepInSolidFrames(s) == 0;
   nlohmann::json events = nlohmann::json::array();
@@ -69,6 +72,10 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
           {"ate_rmse_m", truth.alignment_rmse_m},
           {"ate_percent", truth.ate_percent},
           {"observed_percent_by_step", truth.observed_percent_by_step},
+          {"coverage_curve",
+           {{"committed_step", curve.committed_step},
+            {"observed_percent", curve.observed_percent},
+            {"wall_seconds", curve.wall_seconds}}},
           {"accuracy_median_m", accuracy.median_m},
           {"accuracy_p90_m", accuracy.p90_m},
           {"completeness_percent", accuracy.completeness_percent},
@@ -95,13 +102,20 @@ nlohmann::json runReportHeader(const std::string& tool, const Config& config) {
           {"dp", config.dead_pocket.enabled}};
 }
 
-void snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
-                       const nlohmann::json& header) {
-  if (step.chosen < 0 && !step.rewind) return;  // a stall leaves the map as it was
+double snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
+                         const nlohmann::json& header, SnapshotSchedule& schedule) {
+  if (step.chosen < 0 && !step.rewind) return 0;  // a stall leaves the map as it was
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point t) { return std::chrono::duration<double>(t.time_since_epoch()).count(); };
+  const double start = seconds(Clock::now());
+  if (!schedule.due(start)) return 0;
   nlohmann::json report = header;
   report["steps"] = step.step;
   report["committed_steps"] = episode.committedSteps();
   saveRunSnapshot(out, runMapOf(episode), report);
+  const double end = seconds(Clock::now());
+  schedule.written(start, end);
+  return end - start;
 }
 
 void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, const std::string& out, bool overwrite,

@@ -13,7 +13,7 @@ namespace {
 
 constexpr double kStepHeightUnits = 18.0;  // Quake III STEPSIZE
 
-using Cell2 = std::pair<int, int>;
+using Cell2 = ReachableCells::Cell2;
 
 Cell2 metreCell(double x_units, double y_units) {
   return {static_cast<int>(std::floor(x_units / quake3::kUnitsPerMetre)),
@@ -60,6 +60,72 @@ int committedInSolidFrames(const std::vector<StepRecord>& history) {
   return frames;
 }
 
+ReachableCells::ReachableCells(const quake3::ReachableFloor& reachable) {
+  std::set<CellStorey> cells;
+  for (const auto& c : reachable.cells) {
+    const Cell2 key = metreCell(c.x(), c.y());
+    heights_[key].push_back(c.z());
+    cells.insert({key, storeyOf(c.z())});
+  }
+  count_ = cells.size();
+}
+
+int ReachableCells::storeyOf(float z_units) { return static_cast<int>(std::floor(z_units / (2 * kStepHeightUnits))); }
+
+std::set<ReachableCells::CellStorey> ReachableCells::observedBy(const FusedKeyframe& keyframe, const Sim3& map_to_world,
+                                                                double band) const {
+  std::set<CellStorey> seen;
+  for (const auto& p : keyframe.points) {
+    if (std::abs(p.h) >= band) continue;
+    const Eigen::Vector3d world = map_to_world.apply(p.position.cast<double>()) * quake3::kUnitsPerMetre;
+    const Cell2 key = metreCell(world.x(), world.y());
+    auto it = heights_.find(key);
+    if (it == heights_.end()) continue;
+    for (float z : it->second) {
+      if (std::abs(world.z() - z) <= kStepHeightUnits / 2) {
+        seen.insert({key, storeyOf(z)});
+        break;
+      }
+    }
+  }
+  return seen;
+}
+
+EpisodeAlignment alignEpisode(const Episode& episode) {
+  EpisodeAlignment a;
+  const auto& truth = episode.truth();
+  const size_t n = std::min(episode.trajectory().size(), truth.size());
+  if (n == 0) return a;
+  std::vector<Eigen::Isometry3d> truth_metres;
+  for (size_t i = 0; i < n; ++i) {
+    Eigen::Isometry3d pose = truth[i].camera_to_world;
+    pose.translation() /= quake3::kUnitsPerMetre;
+    truth_metres.push_back(pose);
+  }
+  const TrajectoryError ate = trajectoryError(
+      std::vector<Eigen::Isometry3d>(episode.trajectory().begin(), episode.trajectory().begin() + n), truth_metres);
+  a.aligned = ate.aligned;
+  if (a.aligned) {
+    a.map_to_world_metres = ate.alignment;
+    a.rmse_m = ate.ate_rmse;
+    a.ate_percent = ate.ate_percent;
+    return a;
+  }
+  // Fused keyframes exist only where a floor was known, and the grid re-anchors on the
+  // first reliable floor, so with a non-empty map kappa_0 is a measured floor distance.
+  const double kappa = episode.anchorEyeHeight();
+  if (episode.map().keyframes().empty() || !(kappa > 0) || !std::isfinite(kappa)) return a;
+  const Eigen::Isometry3d& estimate0 = episode.trajectory().front();
+  Sim3 floor_tie;
+  floor_tie.scale = episode.config().world.eye_height_units / quake3::kUnitsPerMetre / kappa;
+  floor_tie.rotation = truth_metres.front().linear() * estimate0.linear().transpose();
+  floor_tie.translation =
+      truth_metres.front().translation() - floor_tie.scale * (floor_tie.rotation * estimate0.translation());
+  a.floor_aligned = true;
+  a.map_to_world_metres = floor_tie;
+  return a;
+}
+
 EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::ReachableFloor& reachable) {
   EpisodeTruth t;
   const auto& truth = episode.truth();
@@ -85,68 +151,23 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
     }
   }
 
-  // Reachable 1 m cells, each with the floor heights found in it.
-  std::map<Cell2, std::vector<float>> reachable_heights;
-  std::set<std::pair<Cell2, int>> reachable_cells;  // (cell, storey) pairs
-  for (const auto& c : reachable.cells) {
-    const Cell2 key = metreCell(c.x(), c.y());
-    reachable_heights[key].push_back(c.z());
-    reachable_cells.insert({key, static_cast<int>(std::floor(c.z() / (2 * kStepHeightUnits)))});
-  }
-  t.reachable_m2 = static_cast<double>(reachable_cells.size());
-
-  const size_t n = std::min(episode.trajectory().size(), truth.size());
-  if (n == 0) return t;
-  std::vector<Eigen::Isometry3d> truth_metres;
-  for (size_t i = 0; i < n; ++i) {
-    Eigen::Isometry3d pose = truth[i].camera_to_world;
-    pose.translation() /= quake3::kUnitsPerMetre;
-    truth_metres.push_back(pose);
-  }
-  const TrajectoryError ate = trajectoryError(
-      std::vector<Eigen::Isometry3d>(episode.trajectory().begin(), episode.trajectory().begin() + n), truth_metres);
-  t.aligned = ate.aligned;
-  if (t.aligned) {
-    t.map_to_world_metres = ate.alignment;
-    t.alignment_rmse_m = ate.ate_rmse;
-    t.ate_percent = ate.ate_percent;
-  } else {
-    // Fused keyframes exist only where a floor was known, and the grid re-anchors on the
-    // first reliable floor, so with a non-empty map kappa_0 is a measured floor distance.
-    const double kappa = episode.anchorEyeHeight();
-    if (episode.map().keyframes().empty() || !(kappa > 0) || !std::isfinite(kappa)) return t;
-    const Eigen::Isometry3d& estimate0 = episode.trajectory().front();
-    Sim3 floor_tie;
-    floor_tie.scale = episode.config().world.eye_height_units / quake3::kUnitsPerMetre / kappa;
-    floor_tie.rotation = truth_metres.front().linear() * estimate0.linear().transpose();
-    floor_tie.translation =
-        truth_metres.front().translation() - floor_tie.scale * (floor_tie.rotation * estimate0.translation());
-    t.floor_aligned = true;
-    t.map_to_world_metres = floor_tie;
-  }
+  const ReachableCells cells(reachable);
+  t.reachable_m2 = static_cast<double>(cells.count());
+  const EpisodeAlignment alignment = alignEpisode(episode);
+  if (!alignment.aligned && !alignment.floor_aligned) return t;
+  t.aligned = alignment.aligned;
+  t.floor_aligned = alignment.floor_aligned;
+  t.map_to_world_metres = alignment.map_to_world_metres;
+  t.alignment_rmse_m = alignment.rmse_m;
+  t.ate_percent = alignment.ate_percent;
   t.alignment_scale = t.map_to_world_metres.scale;
-  const Sim3& map_to_world = t.map_to_world_metres;
 
   // Cells each keyframe observes, then their union over growing prefixes of the map.
   const double band = episode.config().collision.height_low;
   const auto& keyframes = episode.map().keyframes();
-  std::vector<std::set<std::pair<Cell2, int>>> seen_by(keyframes.size());
-  for (size_t k = 0; k < keyframes.size(); ++k) {
-    for (const auto& p : keyframes[k]->points) {
-      if (std::abs(p.h) >= band) continue;
-      const Eigen::Vector3d world = map_to_world.apply(p.position.cast<double>()) * quake3::kUnitsPerMetre;
-      const Cell2 key = metreCell(world.x(), world.y());
-      auto it = reachable_heights.find(key);
-      if (it == reachable_heights.end()) continue;
-      for (float z : it->second) {
-        if (std::abs(world.z() - z) <= kStepHeightUnits / 2) {
-          seen_by[k].insert({key, static_cast<int>(std::floor(z / (2 * kStepHeightUnits)))});
-          break;
-        }
-      }
-    }
-  }
-  std::set<std::pair<Cell2, int>> observed;
+  std::vector<std::set<ReachableCells::CellStorey>> seen_by(keyframes.size());
+  for (size_t k = 0; k < keyframes.size(); ++k) seen_by[k] = cells.observedBy(*keyframes[k], t.map_to_world_metres, band);
+  std::set<ReachableCells::CellStorey> observed;
   size_t merged = 0;
   auto percent = [&] { return t.reachable_m2 > 0 ? 100.0 * observed.size() / t.reachable_m2 : 0.0; };
   for (const auto& step : episode.history()) {

@@ -60,18 +60,28 @@ int runLogged(const std::vector<std::string>& argv, const std::string& log) {
 }  // namespace
 
 nlohmann::json evalPlotData(const std::vector<ConfigSummary>& summaries) {
-  nlohmann::json configs = nlohmann::json::array(), series = nlohmann::json::object();
+  nlohmann::json configs = nlohmann::json::array(), series = nlohmann::json::object(),
+                 by_wall = nlohmann::json::object(), wall = nlohmann::json::object();
   for (const auto& s : summaries) {
     configs.push_back(s.config);
     series[s.config] = s.observed_by_step;
+    by_wall[s.config] = s.observed_by_committed_step;
+    wall[s.config] = s.wall_seconds_by_committed_step;
   }
   nlohmann::json coverage = {{"name", "coverage_by_step"},
                              {"title", "reachable floor observed by step (mean over runs)"},
                              {"xlabel", "step"},
                              {"ylabel", "reachable floor observed (%)"},
                              {"series", series}};
+  // One point per committed step: the mean wall seconds spent and the mean coverage then.
+  nlohmann::json coverage_by_wall = {{"name", "coverage_by_wall_time"},
+                                     {"title", "reachable floor observed against wall time (mean over runs)"},
+                                     {"xlabel", "wall seconds"},
+                                     {"ylabel", "reachable floor observed (%)"},
+                                     {"x", wall},
+                                     {"series", by_wall}};
   return {{"configs", configs},
-          {"curves", nlohmann::json::array({coverage})},
+          {"curves", nlohmann::json::array({coverage, coverage_by_wall})},
           {"bars", nlohmann::json::array(
                        {bars(summaries, "penetrations", "penetrating committed frames per run (mean)",
                              "penetrating frames per run", &ConfigSummary::penetrations),

@@ -99,6 +99,21 @@ const char* const kGroundTruthNumbers[] = {
     "truly_colliding",            "ate_percent",           "accuracy_median_m",      "accuracy_p90_m",
     "completeness_percent"};
 
+// The mean of `curves` at every index up to the longest; a curve that ended keeps its
+// last value, so the mean is over every curve at every index and never drops because
+// a run stopped. Empty when there is no curve.
+std::vector<double> meanCurve(const std::vector<std::vector<double>>& curves) {
+  size_t longest = 0;
+  for (const auto& c : curves) longest = std::max(longest, c.size());
+  std::vector<double> mean(longest, 0.0);
+  for (const auto& c : curves)
+    for (size_t i = 0; i < longest; ++i) mean[i] += c[std::min(i, c.size() - 1)] / curves.size();
+  return mean;
+}
+
+// The arrays of ground_truth.coverage_curve (coverage_curve.h) the report reads.
+const char* const kCoverageCurveArrays[] = {"observed_percent", "wall_seconds"};
+
 }  // namespace
 
 std::string reportProblem(const nlohmann::json& report, const std::string& path) {
@@ -128,6 +143,18 @@ std::string reportProblem(const nlohmann::json& report, const std::string& path)
     for (size_t i = 0; i < curve.size(); ++i)
       if (!curve[i].is_number())
         return wrong("ground_truth.observed_percent_by_step[" + std::to_string(i) + "]", curve[i], "a number");
+  }
+  if (const auto& curve = field(g, "coverage_curve"); !curve.is_null()) {
+    if (!curve.is_object()) return wrong("ground_truth.coverage_curve", curve, "an object");
+    for (const char* key : kCoverageCurveArrays) {
+      const std::string name = std::string("ground_truth.coverage_curve.") + key;
+      const auto& values = field(curve, key);
+      if (!values.is_array()) return wrong(name, values, "an array");
+      for (size_t i = 0; i < values.size(); ++i)
+        if (!values[i].is_number()) return wrong(name + "[" + std::to_string(i) + "]", values[i], "a number");
+    }
+    if (field(curve, "observed_percent").size() != field(curve, "wall_seconds").size())
+      return path + ": ground_truth.coverage_curve's observed_percent and wall_seconds differ in length";
   }
   if (const auto& events = field(g, "penetration_events"); !events.is_null() && !events.is_array())
     return wrong("ground_truth.penetration_events", events, "an array");
@@ -172,7 +199,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
   for (const auto& config : configs) {
     ConfigSummary s;
     s.config = config;
-    std::vector<std::vector<double>> curves;
+    std::vector<std::vector<double>> curves, committed_curves, wall_curves;
     Mean observed_percent, observed_m2, per_clean_step, penetrations, outside_world, discarded, rewinds, false_rejections, missed,
         ate, accuracy, completeness, wall, frames_per_second, committed_steps, per_step;
     std::map<std::string, Mean> stages;
@@ -230,6 +257,15 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
         curves.push_back(std::move(curve));
       else if (hasNumber(g, "observed_reachable_percent"))
         curves.push_back({number(g, "observed_reachable_percent")});
+      // Runs written before the coverage curve existed are not in its means.
+      if (const auto& curve = field(g, "coverage_curve"); curve.is_object()) {
+        auto observed = numbers(field(curve, "observed_percent"));
+        auto seconds = numbers(field(curve, "wall_seconds"));
+        if (!observed.empty() && observed.size() == seconds.size()) {
+          committed_curves.push_back(std::move(observed));
+          wall_curves.push_back(std::move(seconds));
+        }
+      }
     }
     s.observed_percent = observed_percent.value();
     s.observed_m2 = observed_m2.value();
@@ -250,14 +286,10 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     for (const auto& [stage, seconds] : stages) s.stage_seconds[stage] = seconds.value();
     if (predicted > 0) s.verdict_precision = (predicted - predicted_wrongly) / predicted;
     if (truly > 0) s.verdict_recall = (truly - truly_missed) / truly;
-    // A run that ended early (budget of steps not used up, or a stall) keeps its last
-    // value, so the mean curve is over every run at every step and never drops because
-    // a run stopped.
-    size_t longest = 0;
-    for (const auto& c : curves) longest = std::max(longest, c.size());
-    s.observed_by_step.assign(longest, 0.0);
-    for (const auto& c : curves)
-      for (size_t i = 0; i < longest; ++i) s.observed_by_step[i] += c[std::min(i, c.size() - 1)] / curves.size();
+    // A run that ended early (budget of steps not used up, or a stall) keeps its last value.
+    s.observed_by_step = meanCurve(curves);
+    s.observed_by_committed_step = meanCurve(committed_curves);
+    s.wall_seconds_by_committed_step = meanCurve(wall_curves);
     out.push_back(s);
   }
   return out;
@@ -422,6 +454,7 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
     md << " " << mean(s.wall_seconds) << " |\n";
   }
   md << "\n![coverage against step](" << plots_prefix << "coverage_by_step.png)\n"
+     << "![coverage against wall time](" << plots_prefix << "coverage_by_wall_time.png)\n"
      << "![penetrations](" << plots_prefix << "penetrations.png)\n"
      << "![coverage per clean step](" << plots_prefix << "coverage_per_clean_step.png)\n\n"
      << "Each plot also as SVG beside its PNG; the plotted numbers: [plots.json](" << plots_prefix

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "valerant/common/error.h"
+#include "valerant/explore/kept_truth.h"
 #include "valerant/explore/local_branch_pipeline.h"
 
 namespace valerant {
@@ -46,7 +47,8 @@ Episode::Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline
   if (start.poses.empty()) throw InputError("world model context", "no frame was tracked (empty context)");
   fuseKnown(start);
   trajectory_ = start.poses;
-  truth_.assign(context.truth.begin(), context.truth.begin() + std::min(context.truth.size(), start.poses.size()));
+  appendCommittedTruth(truth_, std::vector<FrameTruth>(context.truth.begin(),
+                                                        context.truth.begin() + std::min(context.truth.size(), start.poses.size())));
   anchorGrid(start.floor_reliable);
 }
 
@@ -114,7 +116,7 @@ StepRecord Episode::step() {
   const auto& results = judged.results;
   const auto& centres = judged.centres;
   const auto& verdicts = judged.verdicts;
-  for (size_t i = 0; i < results.size(); ++i) record.candidates.push_back({verdicts[i], centres[i], results[i].rollout.truth});
+  for (size_t i = 0; i < results.size(); ++i) record.candidates.push_back({verdicts[i], centres[i], withoutDepth(results[i].rollout.truth)});
 
   std::set<Cell> cells;
   bool rotation_only = false;
@@ -132,6 +134,7 @@ StepRecord Episode::step() {
   if (const auto decision = rewinder_.check()) rewind(*decision, record);
   stuck_ = record.chosen < 0 && !record.rewind && !rewinder_.canRewindLater();
   record.map_keyframes = map_.marker();
+  record.committed_steps = committed_steps_;
   record.wall_seconds = secondsSince(step_start);
   history_.push_back(record);
   return record;
@@ -186,7 +189,7 @@ void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector
   pipeline_.commit(chosen);
   const size_t fused = fuseKnown(chosen);
   trajectory_.insert(trajectory_.end(), chosen.poses.begin(), chosen.poses.end());
-  truth_.insert(truth_.end(), chosen.rollout.truth.begin(), chosen.rollout.truth.end());
+  appendCommittedTruth(truth_, chosen.rollout.truth);
   ++committed_steps_;
   if (!anchored_on_reliable_floor_ && chosen.floor_reliable) {
     anchorGrid(true);

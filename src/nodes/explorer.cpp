@@ -118,10 +118,11 @@ class Explorer {
       publishMap(episode, 0);
       AppendOnlyLog decisions(out + "/decisions.jsonl", false);
       nlohmann::json report = runReportHeader("explorer", config);
+      SnapshotSchedule snapshots;
       while (!episode.finished() && !stop()) {
         const StepRecord r = episode.step();
         decisions.writeLine(toJson(r).dump());
-        snapshotAfterStep(out, episode, r, report);
+        snapshotAfterStep(out, episode, r, report, snapshots);
         publishStep(episode, r);
         ROS_INFO_STREAM("explorer: step " << r.step << ": "
                                           << (r.chosen >= 0 ? r.candidates[r.chosen].verdict.candidate : "stall")

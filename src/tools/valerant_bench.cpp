@@ -14,6 +14,9 @@
 //   valerant_bench depth --maps oa_dm1,oa_dm2 [--spawns 2] [--model FILE] [--config FILE] [--set key=value ...]
 //     the learned depth prior's accuracy against the engine's depth and its time per
 //     frame on one thread, next to the visual SLAM's plane-sweep depth (bench/bench_depth.cpp)
+//   valerant_bench extent --maps oa_dm1,oa_dm2 [--spawns 3] [--config FILE] [--set key=value ...]
+//     the reachable floor's farthest distance from each spawn against the exploration
+//     grid's reach: whether the coverage grid holds the whole level (bench/bench_extent.cpp)
 //
 // `valerant_bench --help` lists the benchmarks, `valerant_bench NAME --help` the flags of one.
 #include <iostream>
@@ -31,7 +34,8 @@ int main(int argc, char** argv) {
                                                              {"slam", tools::addBenchSlam(app)},
                                                              {"graph", tools::addBenchGraph(app)},
                                                              {"map", tools::addBenchMap(app)},
-                                                             {"depth", tools::addBenchDepth(app)}};
+                                                             {"depth", tools::addBenchDepth(app)},
+                                                             {"extent", tools::addBenchExtent(app)}};
   return tools::runTool(app, argc, argv, [&] {
     std::cout << benchmarks.at(app.get_subcommands().front()->get_name())().dump() << std::endl;
     return 0;

@@ -11,30 +11,43 @@
 // for valerant_export (map/run_map.h: keyframes.pcd, keyframes.txt, config.yaml),
 // trajectory.txt (TUM, SLAM frame), gt_trajectory.txt (TUM, BSP frame, game units),
 // decisions.jsonl, topdown.png and, last, report.json into DIR; prints one JSON summary
-// line. After every step that changes the map, DIR/snapshot holds the map of the
-// committed steps. A folder holding a run is an error unless --force (replace it) or,
-// for an unfinished run, --resume (eval/run_directory.h). The flags that stand for
+// line. After a step that changes the map, DIR/snapshot holds the map of the committed
+// steps (on long runs not after every step: eval/snapshot_schedule.h). After every
+// step, one progress line on stderr (explore/progress_line.h): step, committed steps,
+// the candidate, the reachable floor observed, keyframes, resident memory and seconds.
+// A folder holding a run is an error unless --force (replace it) or, for an unfinished
+// run, --resume (eval/run_directory.h). The flags that stand for
 // configuration keys go through the configuration's checks (tools/tool_config.h).
 // Ctrl-C (or SIGTERM) stops after the current step and still writes everything, then
 // exits 130 (143); a second signal ends the process at once, leaving an unfinished run.
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <iostream>
 
 #include "tool_config.h"
 #include "valerant/common/joined.h"
 #include "valerant/common/output_file.h"
+#include "valerant/common/resident_memory.h"
 #include "valerant/eval/episode_outputs.h"
+#include "valerant/eval/live_coverage.h"
 #include "valerant/eval/run_directory.h"
 #include "valerant/explore/episode.h"
 #include "valerant/explore/episode_json.h"
+#include "valerant/explore/progress_line.h"
 #include "valerant/map/run_map.h"
 #include "valerant/world/quake3/quake3_world.h"
+#include "valerant/world/quake3/reachable_floor.h"
 
 using namespace valerant;
 namespace fs = std::filesystem;
 
 namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsBetween(Clock::time_point from, Clock::time_point to) {
+  return std::chrono::duration<double>(to - from).count();
+}
 
 std::atomic<bool> g_stop{false};
 std::atomic<int> g_signal{0};
@@ -99,6 +112,13 @@ int main(int argc, char** argv) {
     auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
     quake3::Quake3World world(map, config);
     Episode episode(world, config);
+    // The progress lines' coverage (report.json's is counted again at the end).
+    LiveCoverage coverage(quake3::floodFillReachableFloor(
+        *map->collision, world.map().bsp.spawnPoints().at(config.world.spawn).origin));
+    const auto episode_start = Clock::now();
+    auto last_line = episode_start;
+    SnapshotSchedule snapshots;
+    double snapshot_seconds = 0;  // writing the map snapshots: outside the steps' own timings
 
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
@@ -113,11 +133,16 @@ int main(int argc, char** argv) {
           } else {
             decisions.writeLine(decision.dump());
           }
-          snapshotAfterStep(out, episode, r, report);
-          std::cerr << "step " << r.step << ": "
-                    << (r.chosen >= 0 ? r.candidates[r.chosen].verdict.candidate : std::string("stall"))
-                    << (r.rewind ? " + rewind" : "") << (index < recorded.size() ? " (as recorded)" : "") << " ("
-                    << r.wall_seconds << " s)\n";
+          snapshot_seconds += snapshotAfterStep(out, episode, r, report, snapshots);
+          StepProgress progress;
+          progress.observed_percent = coverage.update(episode);
+          progress.resident_bytes = residentMemory().current_bytes;
+          const auto now = Clock::now();
+          progress.seconds = secondsBetween(last_line, now);
+          progress.total_seconds = secondsBetween(episode_start, now);
+          progress.as_recorded = index < recorded.size();
+          last_line = now;
+          std::cerr << progressLine(r, progress) << '\n';
         },
         &g_stop);
     if (episode.history().size() < recorded.size())
@@ -125,12 +150,16 @@ int main(int argc, char** argv) {
                                                      " steps, but the resumed episode ended after " +
                                                      std::to_string(episode.history().size()));
 
+    const auto outputs_start = Clock::now();
     writeEpisodeOutputs(episode, &world.map(), out, true, report);
+    report["output_seconds"] = secondsBetween(outputs_start, Clock::now());  // exports and ground truth
     // A signal during the writes above still counts: the report says what the exit status says.
     const int signal = g_signal.load();
     report["interrupted"] = signal != 0;
     if (signal) report["signal"] = signal == SIGINT ? "SIGINT" : "SIGTERM";
     if (start == RunStart::kResume) report["resumed_after_steps"] = recorded.size();
+    report["snapshot_seconds"] = snapshot_seconds;
+    report["peak_resident_bytes"] = residentMemory().peak_bytes;
     writeRunReport(out, report);
     report.erase("files");
     std::cout << report.dump() << std::endl;

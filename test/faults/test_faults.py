@@ -64,6 +64,7 @@ TOOL_FLAGS = {
                                   ["--out", "OUT"], "--budget"),
     ("valerant_bench", "map"): (["--run", "--updates"], ["--run", "RUN"], "--updates"),
     ("valerant_bench", "depth"): (["--maps", "--spawns", "--model"] + CONFIG_FLAGS, [], "--spawns"),
+    ("valerant_bench", "extent"): (["--maps", "--spawns"] + CONFIG_FLAGS, [], "--spawns"),
 }
 
 
@@ -278,7 +279,7 @@ class Faults(unittest.TestCase):
     def test_every_tool_answers_help_with_every_flag(self):
         status, out, err = run([tool("valerant_bench"), "--help"])
         self.assertEqual(status, 0, err)
-        for benchmark in ("render", "slam", "graph", "map", "depth"):
+        for benchmark in ("render", "slam", "graph", "map", "depth", "extent"):
             self.assertIn(benchmark, out)
         for command, (flags, _, _) in TOOL_FLAGS.items():
             for help_flag in ("--help", "-h"):

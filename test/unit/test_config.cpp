@@ -49,7 +49,7 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_DOUBLE_EQ(c.policy.lambda_cov, 1.0);
   EXPECT_DOUBLE_EQ(c.policy.lambda_prog, 5.0);
   EXPECT_DOUBLE_EQ(c.policy.frontier_weight, 0.5);
-  EXPECT_EQ(c.policy.grid_cells, 128);
+  EXPECT_EQ(c.policy.grid_cells, 512);  // [ours]: the paper's 128 x 128 is too small for whole levels
   EXPECT_EQ(c.policy.cells_per_d_fwd, 8);
   EXPECT_EQ(c.policy.budget_steps, 15);
   EXPECT_EQ(c.floor.min_support, 300);

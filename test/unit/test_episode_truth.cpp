@@ -12,6 +12,7 @@
 #include "brush_world.h"
 #include "openarena_data.h"
 #include "valerant/eval/episode_truth.h"
+#include "valerant/eval/live_coverage.h"
 #include "valerant/world/quake3/quake3_world.h"
 
 using namespace valerant;
@@ -44,6 +45,12 @@ TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
   const Eigen::Vector3d first = episode.trajectory().front().translation();
   EXPECT_TRUE(truth.map_to_world_metres.apply(first).isApprox(first, 1e-9));
   EXPECT_GT(truth.observed_reachable_m2, 10.0);
+  // The progress lines' live count gives the same figure from the same alignment, and
+  // counts nothing again while the map stays as it is.
+  LiveCoverage live(reachable);
+  EXPECT_DOUBLE_EQ(live.update(episode), truth.observed_reachable_percent);
+  EXPECT_DOUBLE_EQ(live.update(episode), truth.observed_reachable_percent);
+  EXPECT_EQ(live.refits(), 1);
 }
 
 namespace {

@@ -109,6 +109,29 @@ TEST(EvalReport, MeansPerConfiguration) {
   EXPECT_NE(md.find("failed: no report.json"), std::string::npos);
 }
 
+TEST(EvalReport, CoverageCurveMeansByCommittedStep) {
+  auto run = [](nlohmann::json ground_truth) {
+    EvalResult r;
+    r.run = {"m", 0, "full", "/o"};
+    r.ok = true;
+    r.report = {{"ground_truth", ground_truth}};
+    return r;
+  };
+  // Two runs with curves, the shorter keeping its last values (12 %, 40 s) at step 3;
+  // a third written before the curve existed is in no mean.
+  const auto s = summarise(
+      {run({{"coverage_curve", {{"observed_percent", {4, 8, 16}}, {"wall_seconds", {10, 20, 60}}}}}),
+       run({{"coverage_curve", {{"observed_percent", {6, 12}}, {"wall_seconds", {30, 40}}}}}),
+       run({{"observed_reachable_percent", 50}})},
+      {"full"});
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0].observed_by_committed_step, (std::vector<double>{5, 10, 14}));
+  EXPECT_EQ(s[0].wall_seconds_by_committed_step, (std::vector<double>{20, 30, 50}));
+  EXPECT_NE(markdownReport(s, {}, "cmd", "p/").find("(p/coverage_by_wall_time.png)"), std::string::npos);
+  // Old runs only: no curve at all.
+  EXPECT_TRUE(summarise({run({{"observed_reachable_percent", 50}})}, {"full"})[0].observed_by_committed_step.empty());
+}
+
 TEST(EvalReport, PenetrationEventsSectionListsTheRunsEvents) {
   auto run = [](int spawn, const std::string& config, nlohmann::json events) {
     EvalResult r;
@@ -312,6 +335,16 @@ TEST(EvalReport, MalformedReportsAreFailedRowsWithTheirReason) {
        "field 'ground_truth.observed_percent_by_step[1]' is a string, not a number"},
       {"curve", "{\"ground_truth\": {\"observed_percent_by_step\": 5}}",
        "field 'ground_truth.observed_percent_by_step' is a number, not an array"},
+      {"coverage_curve", "{\"ground_truth\": {\"coverage_curve\": []}}",
+       "field 'ground_truth.coverage_curve' is an array, not an object"},
+      {"coverage_curve_wall", "{\"ground_truth\": {\"coverage_curve\": {\"observed_percent\": [1]}}}",
+       "field 'ground_truth.coverage_curve.wall_seconds' is null, not an array"},
+      {"coverage_curve_item",
+       "{\"ground_truth\": {\"coverage_curve\": {\"observed_percent\": [1, null], \"wall_seconds\": [1, 2]}}}",
+       "field 'ground_truth.coverage_curve.observed_percent[1]' is null, not a number"},
+      {"coverage_curve_lengths",
+       "{\"ground_truth\": {\"coverage_curve\": {\"observed_percent\": [1], \"wall_seconds\": [1, 2]}}}",
+       "coverage_curve's observed_percent and wall_seconds differ in length"},
       {"events", "{\"ground_truth\": {\"penetration_events\": {}}}",
        "field 'ground_truth.penetration_events' is an object, not an array"},
       {"stages", "{\"ground_truth\": {}, \"stage_seconds\": []}", "field 'stage_seconds' is an array, not an object"},

@@ -35,6 +35,9 @@ std::vector<ConfigSummary> twoConfigs() {
   oracle.observed_by_step = {8, 30};
   oracle.penetrations = -1;  // no run records it
   oracle.observed_m2_per_clean_step = 7.25;
+  full.observed_by_committed_step = {10, 40};
+  full.wall_seconds_by_committed_step = {30.5, 95};
+  // oracle's runs predate the coverage curve: no curve, an empty series
   return {full, oracle};
 }
 
@@ -52,12 +55,19 @@ std::string messageOf(const std::function<void()>& f) {
 TEST(EvalPlots, DataHoldsTheCurvesAndBarsWithNullForUnrecorded) {
   const nlohmann::json data = evalPlotData(twoConfigs());
   EXPECT_EQ(data["configs"], nlohmann::json({"full", "oracle"}));
-  ASSERT_EQ(data["curves"].size(), 1u);
+  ASSERT_EQ(data["curves"].size(), 2u);
   const auto& curve = data["curves"][0];
   EXPECT_EQ(curve["name"], "coverage_by_step");
   EXPECT_EQ(curve["xlabel"], "step");
   EXPECT_EQ(curve["series"]["full"], nlohmann::json({10, 25.5, 40}));
   EXPECT_EQ(curve["series"]["oracle"], nlohmann::json({8, 30}));
+  EXPECT_FALSE(curve.contains("x"));  // steps 1, 2, ...
+  const auto& by_wall = data["curves"][1];
+  EXPECT_EQ(by_wall["name"], "coverage_by_wall_time");
+  EXPECT_EQ(by_wall["xlabel"], "wall seconds");
+  EXPECT_EQ(by_wall["x"]["full"], nlohmann::json({30.5, 95}));
+  EXPECT_EQ(by_wall["series"]["full"], nlohmann::json({10, 40}));
+  EXPECT_EQ(by_wall["series"]["oracle"], nlohmann::json::array());
   ASSERT_EQ(data["bars"].size(), 2u);
   EXPECT_EQ(data["bars"][0]["name"], "penetrations");
   EXPECT_EQ(data["bars"][0]["values"]["full"], 0.5);
@@ -70,7 +80,7 @@ TEST(EvalPlots, MatplotlibDrawsEveryPlotAsPngAndSvg) {
   const fs::path dir = freshFolder();
   drawEvalPlots(twoConfigs(), dir.string());
   EXPECT_TRUE(fs::is_regular_file(dir / "plots.json"));
-  for (const char* name : {"coverage_by_step", "penetrations", "coverage_per_clean_step"}) {
+  for (const char* name : {"coverage_by_step", "coverage_by_wall_time", "penetrations", "coverage_per_clean_step"}) {
     const cv::Mat png = cv::imread((dir / (std::string(name) + ".png")).string());
     EXPECT_GT(png.cols, 300) << name;
     std::ifstream svg(dir / (std::string(name) + ".svg"));

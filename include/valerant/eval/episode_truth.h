@@ -11,7 +11,10 @@
 // (|h| < eta_low) then mark 1 m cells. A reachable 1 m cell counts as observed when a
 // floor point falls in it within half a step height of a reachable floor height there.
 #include <Eigen/Geometry>
+#include <map>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "valerant/eval/trajectory_metrics.h"
@@ -77,6 +80,35 @@ struct PenetrationEvent {
 std::vector<PenetrationEvent> penetrationEvents(const std::vector<StepRecord>& history);
 // In-solid frames of every committed step in `history`, kept or later discarded.
 int committedInSolidFrames(const std::vector<StepRecord>& history);
+
+// The reachable floor as 1 m cells split into storeys (two step heights high), with
+// the floor heights found in each cell: what "observed" is counted against.
+class ReachableCells {
+ public:
+  using Cell2 = std::pair<int, int>;             // 1 m cell, BSP x and y
+  using CellStorey = std::pair<Cell2, int>;      // a cell on one storey
+  explicit ReachableCells(const quake3::ReachableFloor& reachable);
+  size_t count() const { return count_; }        // (cell, storey) pairs: the reachable m2
+  // The pairs the floor points (|h| < `band`) of `keyframe` observe, its points taken to
+  // the BSP frame in metres by `map_to_world`.
+  std::set<CellStorey> observedBy(const FusedKeyframe& keyframe, const Sim3& map_to_world, double band) const;
+
+ private:
+  static int storeyOf(float z_units);
+  std::map<Cell2, std::vector<float>> heights_;
+  size_t count_ = 0;
+};
+
+// How the episode's map frame is tied to the BSP frame (metres): the Sim(3) fit of the
+// committed camera centres, or, when they never translated, the first pose and the floor.
+struct EpisodeAlignment {
+  bool aligned = false;        // a Sim(3) was fitted
+  bool floor_aligned = false;  // not aligned, tied by the first pose and the floor
+  Sim3 map_to_world_metres;    // identity when neither
+  double rmse_m = 0;           // ATE of the whole committed path (aligned only)
+  double ate_percent = 0;      // ... as a share of its length
+};
+EpisodeAlignment alignEpisode(const Episode& episode);
 
 EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::ReachableFloor& reachable);
 

@@ -50,6 +50,10 @@ struct ConfigSummary {
   double verdict_precision = -1, verdict_recall = -1;
   std::map<std::string, double> stage_seconds;  // mean seconds per run in each stage
   std::vector<double> observed_by_step;  // mean curve; a run that ended keeps its last value
+  // Mean curves by committed step (report.json's ground_truth.coverage_curve,
+  // coverage_curve.h) over the runs that record one, a run that ended keeping its last
+  // values: the reachable floor observed, and the wall seconds spent to get there.
+  std::vector<double> observed_by_committed_step, wall_seconds_by_committed_step;
 };
 
 std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, const std::vector<std::string>& configs);

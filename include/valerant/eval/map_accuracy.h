@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "valerant/common/camera.h"
+#include "valerant/explore/kept_truth.h"
 #include "valerant/world/quake3/surface_samples.h"
 #include "valerant/world/world_model.h"
 
@@ -27,7 +28,8 @@ struct MapAccuracy {
 
 struct MapAccuracyParams {
   double within_m = 0.25;
-  int frame_stride = 8;            // test visibility in every 8th committed frame
+  // Test visibility in every 8th committed frame: the frames whose depth an episode keeps.
+  int frame_stride = static_cast<int>(kCommittedDepthStride);
   double depth_agreement = 0.05;   // seen: |truth depth - sample depth| <= 5% of depth
 };
 

@@ -34,7 +34,7 @@ namespace valerant {
 struct CandidateRecord {
   BranchVerdict verdict;
   std::vector<Eigen::Vector3d> centres;  // map frame
-  std::vector<FrameTruth> truth;         // ground truth of its frames (engine only)
+  std::vector<FrameTruth> truth;         // ground truth of its frames, without depth (engine only; kept_truth.h)
 };
 
 struct StepRecord {
@@ -46,6 +46,7 @@ struct StepRecord {
   uint64_t rewind_to = 0;
   int discarded_steps = 0;
   size_t map_keyframes = 0;    // keyframes in the global map after the step
+  int committed_steps = 0;     // committed steps of the kept path after the step (a rewind lowers it)
   StageSeconds seconds;
   double wall_seconds = 0;
 };
@@ -72,7 +73,8 @@ class Episode {
   const CoverageGrid& grid() const { return *grid_; }
   const FailedRegionMemory& failed() const { return failed_; }
   const std::vector<Eigen::Isometry3d>& trajectory() const { return trajectory_; }  // committed frames
-  const std::vector<FrameTruth>& truth() const { return truth_; }  // ground truth of committed frames
+  // Ground truth of the committed frames; depth only every kCommittedDepthStride-th (kept_truth.h).
+  const std::vector<FrameTruth>& truth() const { return truth_; }
   const std::vector<StepRecord>& history() const { return history_; }
   double anchorEyeHeight() const { return anchor_kappa_; }  // kappa_0, map units
   // What the coverage grid is anchored on: the start floor and the start heading.

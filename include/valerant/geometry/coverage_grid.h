@@ -1,5 +1,6 @@
 #pragma once
-// The exploration grid of the policy (paper eq. 2, appendix A): 128 x 128 cells whose
+// The exploration grid of the policy (paper eq. 2, appendix A): grid_cells x grid_cells
+// (the paper's 128; ours 512, to hold whole levels: config/valerant.yaml) cells whose
 // width is one eighth of a nominal forward action, anchored at the start pose on the
 // floor plane. Everything is floor-normalised: a cell is (d_fwd / 8) * kappa_0 map units
 // wide, kappa_0 the camera-to-floor distance at the anchor, d_fwd the forward action

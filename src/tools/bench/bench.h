@@ -16,6 +16,7 @@ BenchRun addBenchSlam(CLI::App& bench);
 BenchRun addBenchGraph(CLI::App& bench);
 BenchRun addBenchMap(CLI::App& bench);
 BenchRun addBenchDepth(CLI::App& bench);
+BenchRun addBenchExtent(CLI::App& bench);
 
 // Peak resident memory of this process so far.
 double peakResidentMiB();
