@@ -20,6 +20,10 @@ struct BranchVerdict {
   // happened, 0 when no prefix advances far enough.
   int prefix_frames = 0;
   double c_new = 0, c_front = 0, coverage = 0, progress = 0;
+  // [ours] whole-level terms (docs/whole_level.md): G, the approach to the nearest
+  // reachable frontier (frontier_distance.h), and O, the opening ahead of an in-place
+  // turn's final heading (open_direction.h; 0 for a translation).
+  double goal = 0, opening = 0;
   double score = 0;
   bool admissible = false;
   std::string reason;  // "" when admissible
