@@ -134,7 +134,12 @@ StepRecord Episode::step() {
     for (const std::string& name : round)
       if (std::find(judged.names.begin(), judged.names.end(), name) == judged.names.end()) names.push_back(name);
     if (names.empty()) continue;
+    const size_t first_new = judged.verdicts.size();
     judge(names, start_cell, record, judged);
+    for (size_t i = first_new; i < judged.verdicts.size(); ++i) {
+      BranchVerdict& v = judged.verdicts[i];
+      v.short_unclear = !v.rotation_only && v.prefix_frames < static_cast<int>(judged.results[i].poses.size());
+    }
     select();
   }
   const auto& results = judged.results;

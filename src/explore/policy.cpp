@@ -29,6 +29,7 @@ int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& confi
     if (v.collision_pc) reason += "point-cloud collision;";
     if (v.collision_depth) reason += "depth collision;";
     if (v.enters_failed) reason += "enters failed region;";
+    if (v.short_unclear) reason += "short action not clear to its end;";
     if (!reason.empty()) reason.pop_back();
     v.reason = reason;
     v.admissible = reason.empty();

@@ -243,4 +243,7 @@ TEST(Policy, WholeLevelTermsJoinTheScore) {
   v[0].collision_pc = v[1].collision_pc = false;
   EXPECT_EQ(selectBranch(v, PolicyConfig{}), 0);
   EXPECT_DOUBLE_EQ(v[0].score, 3.0);
+  v[0].short_unclear = true;  // uw@32 stops short of its end's clearance: out
+  EXPECT_EQ(selectBranch(v, PolicyConfig{}), 1);
+  EXPECT_EQ(v[0].reason, "short action not clear to its end");
 }
