@@ -330,3 +330,15 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
   EXPECT_EQ(errorOfOverride("policy.open_turn", "maybe"),
             "--set policy.open_turn=maybe: policy.open_turn: expected true or false, got 'maybe'");
 }
+
+TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
+  // The tests that build a Config in code run the shipped policy (docs/whole_level.md).
+  const Config shipped = loadConfig(std::string(VALERANT_SOURCE_DIR) + "/config/valerant.yaml");
+  const PolicyConfig built_in;
+  EXPECT_EQ(shipped.policy.goal_weight, built_in.goal_weight);
+  EXPECT_EQ(shipped.policy.obstacle_min_points, built_in.obstacle_min_points);
+  EXPECT_EQ(shipped.policy.short_translation_frames, built_in.short_translation_frames);
+  EXPECT_EQ(shipped.policy.short_turn_frames, built_in.short_turn_frames);
+  EXPECT_EQ(shipped.policy.open_turn, built_in.open_turn);
+  EXPECT_EQ(shipped.policy.opening_weight, built_in.opening_weight);
+}

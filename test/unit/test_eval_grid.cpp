@@ -48,6 +48,13 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(overridden("oracle").slam.backend, "oracle");
   EXPECT_EQ(overridden("frontier").policy.kind, "frontier");
   EXPECT_THROW(evalConfigOverrides("fast"), InputError);
+  const Config before = overridden("no-whole-level");
+  EXPECT_DOUBLE_EQ(before.policy.goal_weight, 0.0);
+  EXPECT_TRUE(before.policy.short_translation_frames.empty());
+  EXPECT_TRUE(before.policy.short_turn_frames.empty());
+  EXPECT_FALSE(before.policy.open_turn);
+  EXPECT_DOUBLE_EQ(before.policy.opening_weight, 0.0);
+  EXPECT_TRUE(before.collision.prefix_commits);  // our older additions stay
   // The paper row is config/paper.yaml (its budget aside, which the grid sets).
   const Config paper_row = overridden("paper");
   const Config paper_file = loadConfig(std::string(VALERANT_SOURCE_DIR) + "/config/paper.yaml");

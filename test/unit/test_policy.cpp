@@ -239,11 +239,13 @@ TEST(Policy, WholeLevelTermsJoinTheScore) {
   v[0].collision_pc = v[1].collision_pc = true;
   EXPECT_EQ(selectBranch(v, config), 2);  // turns rank by where they face
   // The paper's weights (0) ignore both terms: uw@32 3.0 against jw@32 2.5.
-  EXPECT_EQ(selectBranch(v, PolicyConfig{}), 2);  // (uw, jw still colliding) jq:114 first of equal turns
+  PolicyConfig paper;
+  paper.goal_weight = paper.opening_weight = 0;
+  EXPECT_EQ(selectBranch(v, paper), 2);  // (uw, jw still colliding) jq:114 first of equal turns
   v[0].collision_pc = v[1].collision_pc = false;
-  EXPECT_EQ(selectBranch(v, PolicyConfig{}), 0);
+  EXPECT_EQ(selectBranch(v, paper), 0);
   EXPECT_DOUBLE_EQ(v[0].score, 3.0);
   v[0].short_unclear = true;  // uw@32 stops short of its end's clearance: out
-  EXPECT_EQ(selectBranch(v, PolicyConfig{}), 1);
+  EXPECT_EQ(selectBranch(v, paper), 1);
   EXPECT_EQ(v[0].reason, "short action not clear to its end");
 }
