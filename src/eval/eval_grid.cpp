@@ -34,9 +34,9 @@ const std::map<std::string, std::vector<std::string>>& configOverrides() {
       // The paper's method without our additions: config/paper.yaml's overrides (a unit
       // test keeps the two the same); the grid's --budget sets the steps.
       {"paper",
-       {"policy.goal_weight=0", "policy.short_translation_frames=[]", "policy.short_turn_frames=[]",
-        "policy.open_turn=false", "policy.opening_weight=0", "collision.previous_steps=0",
-        "collision.prefix_commits=false"}},
+       {"policy.grid_cells=128", "policy.goal_weight=0", "policy.short_translation_frames=[]",
+        "policy.short_turn_frames=[]", "policy.open_turn=false", "policy.opening_weight=0",
+        "collision.previous_steps=0", "collision.prefix_commits=false"}},
   };
   return overrides;
 }

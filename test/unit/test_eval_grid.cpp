@@ -59,6 +59,8 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   const Config paper_row = overridden("paper");
   const Config paper_file = loadConfig(std::string(VALERANT_SOURCE_DIR) + "/config/paper.yaml");
   EXPECT_EQ(paper_file.policy.budget_steps, 15);
+  EXPECT_EQ(paper_file.policy.grid_cells, 128);
+  EXPECT_EQ(paper_row.policy.grid_cells, paper_file.policy.grid_cells);
   EXPECT_EQ(paper_row.policy.goal_weight, paper_file.policy.goal_weight);
   EXPECT_EQ(paper_row.policy.short_translation_frames, paper_file.policy.short_translation_frames);
   EXPECT_EQ(paper_row.policy.short_turn_frames, paper_file.policy.short_turn_frames);
