@@ -9,6 +9,7 @@
 #include <limits>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "valerant/common/error.h"
 #include "valerant/common/joined.h"
@@ -45,6 +46,30 @@ class Section {
       fail(name(key), range.str());
     }
     field = value;
+  }
+
+  // A list of numbers, each in [min, max] (an empty list is allowed).
+  template <typename T>
+  void numbers(const char* key, std::vector<T>& field, T min, T max) {
+    const YAML::Node v = take(key);
+    if (!v.IsSequence()) fail(name(key), "expected a list such as [32, 16], got '" + text(v) + "'");
+    std::vector<T> values;
+    for (const YAML::Node& item : v) {
+      T value;
+      try {
+        if (!item.IsScalar()) throw YAML::Exception(item.Mark(), "not a scalar");
+        value = item.as<T>();
+      } catch (const YAML::Exception&) {
+        fail(name(key), "expected a number in the list, got '" + text(item) + "'");
+      }
+      if (!(value >= min && value <= max)) {
+        std::ostringstream range;
+        range << "list value " << value << " outside [" << min << ", " << max << "]";
+        fail(name(key), range.str());
+      }
+      values.push_back(value);
+    }
+    field = values;
   }
 
   void boolean(const char* key, bool& field) {
@@ -150,6 +175,12 @@ void readPolicy(Section s, PolicyConfig& p) {
   s.number("cells_per_d_fwd", p.cells_per_d_fwd, 1, 1024);
   s.number("budget_steps", p.budget_steps, 1, 100000);
   s.number("step_cap_factor", p.step_cap_factor, 1, 1000);
+  s.number("goal_weight", p.goal_weight, 0.0, 1e6);
+  s.number("obstacle_min_points", p.obstacle_min_points, 1, 1000000);
+  s.numbers("short_translation_frames", p.short_translation_frames, 1, 10000);
+  s.numbers("short_turn_frames", p.short_turn_frames, 1, 10000);
+  s.boolean("open_turn", p.open_turn);
+  s.number("opening_weight", p.opening_weight, 0.0, 1e6);
   s.finish();
 }
 
@@ -434,6 +465,14 @@ Config ConfigDocument::parse() const {
   top.finish();
   if (c.collision.height_low >= c.collision.height_high)
     throw InputError(source, "collision.height_low: must be below collision.height_high");
+  // Short translations and turns are prefixes of uw / jq: shorter than their horizon.
+  for (const auto& [key, frames] : {std::pair{"policy.short_translation_frames", &c.policy.short_translation_frames},
+                                    std::pair{"policy.short_turn_frames", &c.policy.short_turn_frames}})
+    for (const int f : *frames)
+      if (f >= c.rollout.horizon_frames)
+        throw InputError(origins_.count(key) ? origins_.at(key) : source, std::string(key) + ": " + std::to_string(f) +
+                                     " frames is not shorter than rollout.horizon_frames (" +
+                                     std::to_string(c.rollout.horizon_frames) + ")");
   const VisualSlamConfig& v = c.slam.visual;
   requireAtMost(source, "slam.visual.tracker.redetect_below", v.tracker.redetect_below, "slam.visual.tracker.max_features",
                 v.tracker.max_features);

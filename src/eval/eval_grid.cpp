@@ -26,6 +26,17 @@ const std::map<std::string, std::vector<std::string>>& configOverrides() {
       {"random", {"policy.kind=random"}},
       {"forward", {"policy.kind=forward"}},
       {"frontier", {"policy.kind=frontier"}},
+      // full without the whole-level options (docs/whole_level.md): full as
+      // docs/evaluation.md measured it before them.
+      {"no-whole-level",
+       {"policy.goal_weight=0", "policy.short_translation_frames=[]", "policy.short_turn_frames=[]",
+        "policy.open_turn=false", "policy.opening_weight=0"}},
+      // The paper's method without our additions: config/paper.yaml's overrides (a unit
+      // test keeps the two the same); the grid's --budget sets the steps.
+      {"paper",
+       {"policy.grid_cells=128", "policy.goal_weight=0", "policy.short_translation_frames=[]",
+        "policy.short_turn_frames=[]", "policy.open_turn=false", "policy.opening_weight=0",
+        "collision.previous_steps=0", "collision.prefix_commits=false"}},
   };
   return overrides;
 }

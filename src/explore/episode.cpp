@@ -1,14 +1,19 @@
 #include "valerant/explore/episode.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 
 #include "valerant/common/error.h"
 #include "valerant/explore/kept_truth.h"
 #include "valerant/explore/local_branch_pipeline.h"
+#include "valerant/geometry/frontier_distance.h"
+#include "valerant/geometry/open_direction.h"
 
 namespace valerant {
 namespace {
+
+constexpr int kOpenDirectionRays = 72;  // every 5 degrees: finer than the grid resolves a few metres out
 
 double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -62,9 +67,19 @@ void Episode::anchorGrid(bool reliable_floor) {
   anchored_on_reliable_floor_ = reliable_floor;
   grid_.emplace(config_.policy, anchor_floor_, anchor_heading_, d_fwd_normalised_);
   for (const auto& pose : trajectory_) grid_->markVisited(pose.translation());
-  for (const auto& kf : map_.keyframes())
-    for (const auto& p : kf->points)
-      if (std::abs(p.h) < config_.collision.height_low) grid_->markObservedFloor(p.position.cast<double>());
+  for (const auto& kf : map_.keyframes()) markGrid(*kf);
+}
+
+void Episode::markGrid(const FusedKeyframe& keyframe) {
+  // Floor points mark observed floor; points at body height (the collision test's band)
+  // mark obstacles, which only the whole-level terms read (coverage_grid.h).
+  const CollisionConfig& band = config_.collision;
+  for (const auto& p : keyframe.points) {
+    if (std::abs(p.h) < band.height_low)
+      grid_->markObservedFloor(p.position.cast<double>());
+    else if (p.h <= band.height_high)
+      grid_->markObstaclePoint(p.position.cast<double>());
+  }
 }
 
 size_t Episode::fuseKnown(const BranchResult& result) {
@@ -113,6 +128,20 @@ StepRecord Episode::step() {
     judge(prefixes, start_cell, record, judged);
     select();
   }
+  for (const std::vector<std::string>& round : roomActionRounds()) {  // [ours], docs/whole_level.md
+    if (movesOn(judged)) break;
+    std::vector<std::string> names;
+    for (const std::string& name : round)
+      if (std::find(judged.names.begin(), judged.names.end(), name) == judged.names.end()) names.push_back(name);
+    if (names.empty()) continue;
+    const size_t first_new = judged.verdicts.size();
+    judge(names, start_cell, record, judged);
+    for (size_t i = first_new; i < judged.verdicts.size(); ++i) {
+      BranchVerdict& v = judged.verdicts[i];
+      v.short_unclear = !v.rotation_only && v.prefix_frames < static_cast<int>(judged.results[i].poses.size());
+    }
+    select();
+  }
   const auto& results = judged.results;
   const auto& centres = judged.centres;
   const auto& verdicts = judged.verdicts;
@@ -145,6 +174,7 @@ void Episode::judge(const std::vector<std::string>& names, const Cell& start_cel
   // other; the pipeline starts each one's reconstruction as soon as it exists.
   std::vector<std::future<BranchResult>> pending;
   for (const std::string& name : names) {
+    out.names.push_back(name);
     const ActionSequence seq = makeActionSequence(name, config_);
     const auto t = std::chrono::steady_clock::now();
     Rollout rollout = world_.rollout(seq);
@@ -152,6 +182,10 @@ void Episode::judge(const std::vector<std::string>& names, const Cell& start_cel
     pending.push_back(pipeline_.evaluate(std::move(rollout), seq.rotationOnly()));
   }
   const Eigen::Vector3d start_centre = trajectory_.back().translation();
+  const auto t_goal = std::chrono::steady_clock::now();
+  const std::set<Cell> blocked = blockedFrom(start_cell);
+  const FrontierDistance goal(*grid_, blocked);
+  record.seconds.policy += secondsSince(t_goal);
   for (auto& f : pending) {
     out.results.push_back(f.get());
     const BranchResult& result = out.results.back();
@@ -165,15 +199,68 @@ void Episode::judge(const std::vector<std::string>& names, const Cell& start_cel
     v.coverage = terms.coverage;
     v.progress = terms.progress;
     v.enters_failed = failed_.enters(terms.cells, start_cell);
+    Cell end_cell{-1, -1};
+    grid_->cellOf(out.centres.back().back(), end_cell);
+    v.goal = goal.goalTerm(start_cell, end_cell);
+    v.opening = v.rotation_only && !result.poses.empty()
+                    ? opening(*grid_, blocked, start_cell, floorAngle(*grid_, result.poses.back().linear().col(2)))
+                    : 0.0;
     out.verdicts.push_back(v);
     record.seconds.policy += secondsSince(t);
   }
 }
 
+std::set<Cell> Episode::blockedFrom(const Cell& start) const {
+  std::set<Cell> blocked = failed_.cells();
+  blocked.erase(start);  // F never holds the agent in place (failed_region_memory.h)
+  return blocked;
+}
+
+std::optional<double> Episode::openTurnDeg() const {
+  Cell here;
+  const Eigen::Isometry3d& pose = trajectory_.back();
+  if (!grid_->cellOf(pose.translation(), here)) return std::nullopt;
+  const double heading = floorAngle(*grid_, pose.linear().col(2));
+  const std::set<Cell> blocked = blockedFrom(here);
+  // uw heads within half of jw / lw's turn already: a smaller turn is no new direction.
+  const double min_turn = config_.rollout.turn_forward_deg / 2;
+  // Toward the goal (frontier_distance.h) where it lies off the heading ...
+  const FrontierDistance goal(*grid_, blocked);
+  if (const auto waypoint = goal.waypoint(here, grid_->cellsPerForwardAction())) {
+    const double turn = turnDeg(heading, cellAngle(here, *waypoint));
+    if (std::abs(turn) >= min_turn) return turn;
+  }
+  // ... else to the longest free ray (open_direction.h).
+  if (const auto open = openDirection(*grid_, blocked, here, heading, kOpenDirectionRays, min_turn))
+    return open->turn_deg;
+  return std::nullopt;
+}
+
+bool Episode::movesOn(const Candidates& judged) {
+  for (const BranchVerdict& v : judged.verdicts)
+    if (v.admissible && !v.rotation_only) return true;
+  return false;
+}
+
+std::vector<std::vector<std::string>> Episode::roomActionRounds() const {
+  const PolicyConfig& p = config_.policy;
+  std::vector<std::vector<std::string>> rounds;
+  for (const int frames : p.short_translation_frames)
+    rounds.push_back({prefixName("uw", frames), prefixName("jw", frames), prefixName("lw", frames)});
+  std::vector<std::string> turns;
+  for (const int frames : p.short_turn_frames) {
+    turns.push_back(prefixName("jq", frames));
+    turns.push_back(prefixName("lq", frames));
+  }
+  if (p.open_turn)
+    if (const auto turn = openTurnDeg()) turns.push_back(turnName(*turn, config_));
+  if (!turns.empty()) rounds.push_back(turns);
+  return rounds;
+}
+
 std::vector<std::string> Episode::cleanPrefixes(const Candidates& judged) const {
   if (!config_.collision.prefix_commits) return {};
-  for (const BranchVerdict& v : judged.verdicts)
-    if (v.admissible && !v.rotation_only) return {};  // the paper's own candidates move on
+  if (movesOn(judged)) return {};  // the paper's own candidates move on
   std::vector<std::string> names;
   for (size_t i = 0; i < judged.verdicts.size(); ++i) {
     const BranchVerdict& v = judged.verdicts[i];
@@ -196,9 +283,7 @@ void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector
     return;
   }
   for (const auto& c : centres) grid_->markVisited(c);
-  for (size_t i = map_.marker() - fused; i < map_.marker(); ++i)
-    for (const auto& p : map_.keyframes()[i]->points)
-      if (std::abs(p.h) < config_.collision.height_low) grid_->markObservedFloor(p.position.cast<double>());
+  for (size_t i = map_.marker() - fused; i < map_.marker(); ++i) markGrid(*map_.keyframes()[i]);
 }
 
 void Episode::rewind(const RewindDecision& decision, StepRecord& record) {

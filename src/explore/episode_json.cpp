@@ -10,6 +10,8 @@ nlohmann::json toJson(const BranchVerdict& v) {
           {"enters_failed", v.enters_failed}, {"prefix_frames", v.prefix_frames},
           {"c_new", v.c_new},               {"c_front", v.c_front},
           {"coverage", v.coverage},         {"progress", v.progress},
+          {"goal", v.goal},                 {"opening", v.opening},
+          {"short_unclear", v.short_unclear},
           {"score", v.score},               {"admissible", v.admissible},
           {"reason", v.reason}};
 }

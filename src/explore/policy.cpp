@@ -21,13 +21,15 @@ int argmaxBy(const std::vector<BranchVerdict>& verdicts, Key key) {
 int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& config, uint64_t step_seed) {
   for (size_t i = 0; i < verdicts.size(); ++i) {
     BranchVerdict& v = verdicts[i];
-    v.score = config.lambda_cov * v.coverage + config.lambda_prog * v.progress;
+    v.score = config.lambda_cov * v.coverage + config.lambda_prog * v.progress + config.goal_weight * v.goal +
+              config.opening_weight * v.opening;
     std::string reason;
     if (v.slam_lost) reason += "slam lost;";
     if (v.floor_unknown) reason += "floor unknown;";
     if (v.collision_pc) reason += "point-cloud collision;";
     if (v.collision_depth) reason += "depth collision;";
     if (v.enters_failed) reason += "enters failed region;";
+    if (v.short_unclear) reason += "short action not clear to its end;";
     if (!reason.empty()) reason.pop_back();
     v.reason = reason;
     v.admissible = reason.empty();

@@ -19,6 +19,7 @@ CoverageGrid::CoverageGrid(const PolicyConfig& config, const FloorPlane& anchor,
   axis_v_ = normal_.cross(axis_u_);
   visited_.assign(static_cast<size_t>(size_) * size_, 0);
   observed_.assign(static_cast<size_t>(size_) * size_, 0);
+  obstacle_points_.assign(static_cast<size_t>(size_) * size_, 0);
 }
 
 bool CoverageGrid::cellOf(const Eigen::Vector3d& p, Cell& cell) const {
@@ -41,6 +42,11 @@ void CoverageGrid::markVisited(const Eigen::Vector3d& camera_centre) {
 void CoverageGrid::markObservedFloor(const Eigen::Vector3d& point) {
   Cell c;
   if (cellOf(point, c)) observed_[index(c)] = 1;
+}
+
+void CoverageGrid::markObstaclePoint(const Eigen::Vector3d& point) {
+  Cell c;
+  if (cellOf(point, c)) ++obstacle_points_[index(c)];
 }
 
 bool CoverageGrid::isFrontier(const Cell& c) const {

@@ -119,6 +119,7 @@ class CollisionChecker {
           b.result.keyframe_floors[k].header = header;
         }
         results_.at(candidate).publish(b.result);
+        judged_[t.key.rollout_id] = b.result;
         b.done = true;
         b.check.reset();
       }
@@ -134,18 +135,23 @@ class CollisionChecker {
       committed_ = CommittedPoints(config_.collision);
       saved_.clear();
       branches_.clear();
+      judged_.clear();
     });
   }
 
   bool checkpoint(valerant::Checkpoint::Request& req, valerant::Checkpoint::Response& res) {
     return guarded("collision_checker/checkpoint", res, [&] {
       saved_.save(req.checkpoint_id, committed_);
+      judged_.clear();  // a new step: rollouts of the last one can no longer be committed
       res.checkpoint_id = req.checkpoint_id;
     });
   }
 
   bool restore(valerant::Restore::Request& req, valerant::Restore::Response& res) {
-    return guarded("collision_checker/restore", res, [&] { committed_ = saved_.at(req.checkpoint_id); });
+    return guarded("collision_checker/restore", res, [&] {
+      committed_ = saved_.at(req.checkpoint_id);
+      judged_.clear();
+    });
   }
 
   bool drop(valerant::Drop::Request& req, valerant::Drop::Response& res) {
@@ -154,22 +160,25 @@ class CollisionChecker {
 
   bool commit(valerant::Commit::Request& req, valerant::Commit::Response& res) {
     return guarded("collision_checker/commit", res, [&] {
-      const auto it = branches_.find(baseCandidate(req.candidate));
-      if (it == branches_.end() || !it->second.done || it->second.result.key.rollout_id != req.rollout_id ||
-          !it->second.result.error.empty())
+      const auto it = judged_.find(req.rollout_id);
+      if (it == judged_.end())
         throw InputError("rollout " + std::to_string(req.rollout_id) + " of '" + req.candidate + "'",
                          "no such branch was judged since the latest checkpoint");
       std::vector<KeyframeCloud> keyframes;
-      for (const auto& cloud : it->second.result.keyframes)
+      for (const auto& cloud : it->second.keyframes)
         keyframes.push_back({0, 0, Eigen::Isometry3d::Identity(), valerant::bridge::fromCloudMsg(cloud)});
       committed_.add(keyframes);
+      judged_.clear();
     });
   }
 
   Config config_;
   CommittedPoints committed_{config_.collision};  // counted by every branch's BranchCheck
   CheckpointStore<CommittedPoints> saved_;
-  std::map<std::string, Branch> branches_;
+  std::map<std::string, Branch> branches_;  // in flight, one per candidate's branch
+  // Every rollout judged since the latest checkpoint: a step may judge several on one
+  // candidate's branch (clean prefixes, short actions) and commit any of them.
+  std::map<RolloutId, valerant::CandidateResult> judged_;
   std::map<std::string, ::ros::Publisher> results_;
   std::vector<::ros::Subscriber> samples_;
   valerant::bridge::Resubscribe subscribe_;

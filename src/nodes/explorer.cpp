@@ -33,6 +33,7 @@
 #include "valerant/ros/graph_config.h"
 #include "valerant/ros/ros_branch_pipeline.h"
 #include "valerant/ros/world_model_client.h"
+#include "valerant/world/action_sequence.h"
 #include "valerant/world/quake3/quake3_map.h"
 
 using namespace valerant;
@@ -125,7 +126,9 @@ class Explorer {
         snapshotAfterStep(out, episode, r, report, snapshots);
         publishStep(episode, r);
         ROS_INFO_STREAM("explorer: step " << r.step << ": "
-                                          << (r.chosen >= 0 ? r.candidates[r.chosen].verdict.candidate : "stall")
+                                          << (r.chosen >= 0
+                                                  ? describeAction(r.candidates[r.chosen].verdict.candidate, config_)
+                                                  : std::string("stall"))
                                           << (r.rewind ? " + rewind" : "") << " (" << r.wall_seconds << " s)");
       }
       result.preempted = !episode.finished();

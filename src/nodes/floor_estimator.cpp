@@ -35,7 +35,6 @@ using valerant::bridge::guarded;
 namespace {
 
 struct Branch {
-  RolloutId rollout = 0;
   std::optional<FloorEstimator> floor;  // the branch's copy of the committed estimator
   bool failed = false;
 };
@@ -94,32 +93,31 @@ class FloorEstimatorNode {
   }
 
   void onTracked(const std::string& candidate, const valerant::SlamFrame& msg) {
-    Branch& b = branches_[candidate];
+    const RolloutId rollout = msg.key.rollout_id;
     if (!msg.error.empty()) {  // an upstream failure travels on to the explorer
-      b.failed = true;
-      b.rollout = msg.key.rollout_id;
+      branches_[rollout].failed = true;
       publishError(candidate, msg, msg.error);
       return;
     }
     if (msg.key.index == 0) {
       if (!committed_) {
         publishError(candidate, msg, "no episode started");
-        b = {msg.key.rollout_id, std::nullopt, true};
+        branches_[rollout] = {std::nullopt, true};
         return;
       }
       if (msg.key.checkpoint_id != latest_) {
         publishError(candidate, msg, "stale checkpoint " + std::to_string(msg.key.checkpoint_id) +
                                          " (the floor estimator stands at " + std::to_string(latest_) + ")");
-        b = {msg.key.rollout_id, *committed_, true};
+        branches_[rollout] = {*committed_, true};
         return;
       }
-      b = {msg.key.rollout_id, *committed_, false};
-    } else if (msg.key.rollout_id != b.rollout) {
+      branches_[rollout] = {*committed_, false};
+    } else if (!branches_.count(rollout)) {
       publishError(candidate, msg, "frame " + std::to_string(msg.key.index) + " of a rollout whose first frame never arrived");
-      b.rollout = msg.key.rollout_id;
-      b.failed = true;
+      branches_[rollout] = {std::nullopt, true};
       return;
     }
+    Branch& b = branches_.at(rollout);
     if (b.failed) return;
     try {
       floors_.at(candidate).publish(boost::make_shared<valerant::FloorSample>(sample(*b.floor, msg)));
@@ -148,6 +146,7 @@ class FloorEstimatorNode {
     return guarded("floor_estimator/checkpoint", res, [&] {
       saved_.save(req.checkpoint_id, committed());
       latest_ = req.checkpoint_id;
+      branches_.clear();  // a new step: rollouts of the last one can no longer be committed
       res.checkpoint_id = req.checkpoint_id;
     });
   }
@@ -167,8 +166,8 @@ class FloorEstimatorNode {
   bool commit(valerant::Commit::Request& req, valerant::Commit::Response& res) {
     return guarded("floor_estimator/commit", res, [&] {
       committed();
-      const auto it = branches_.find(baseCandidate(req.candidate));
-      if (it == branches_.end() || it->second.rollout != req.rollout_id || it->second.failed)
+      const auto it = branches_.find(req.rollout_id);
+      if (it == branches_.end() || it->second.failed)
         throw InputError("rollout " + std::to_string(req.rollout_id) + " of '" + req.candidate + "'",
                          "no such branch was estimated since the latest checkpoint");
       committed_ = *it->second.floor;
@@ -187,7 +186,9 @@ class FloorEstimatorNode {
   std::optional<FloorEstimator> committed_;
   CheckpointStore<FloorEstimator> saved_;
   CheckpointId latest_ = 0;
-  std::map<std::string, Branch> branches_;
+  // Every rollout estimated since the latest checkpoint: a step may judge several on one
+  // candidate's branch (clean prefixes, short actions) and commit any of them.
+  std::map<RolloutId, Branch> branches_;
   std::map<std::string, ::ros::Publisher> floors_;
   std::vector<::ros::Subscriber> tracked_;
   valerant::bridge::Resubscribe subscribe_;

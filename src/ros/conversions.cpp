@@ -283,6 +283,8 @@ valerant::Verdict toMsg(const BranchVerdict& v, const std::vector<Eigen::Vector3
   msg.enters_failed = v.enters_failed;
   msg.prefix_frames = static_cast<uint32_t>(std::max(0, v.prefix_frames));
   msg.c_new = v.c_new, msg.c_front = v.c_front, msg.coverage = v.coverage, msg.progress = v.progress;
+  msg.goal = v.goal, msg.opening = v.opening;
+  msg.short_unclear = v.short_unclear;
   msg.score = v.score;
   msg.admissible = v.admissible;
   msg.reason = v.reason;
@@ -307,6 +309,8 @@ BranchVerdict fromMsg(const valerant::Verdict& msg) {
   v.enters_failed = msg.enters_failed;
   v.prefix_frames = static_cast<int>(msg.prefix_frames);
   v.c_new = msg.c_new, v.c_front = msg.c_front, v.coverage = msg.coverage, v.progress = msg.progress;
+  v.goal = msg.goal, v.opening = msg.opening;
+  v.short_unclear = msg.short_unclear;
   v.score = msg.score;
   v.admissible = msg.admissible;
   v.reason = msg.reason;

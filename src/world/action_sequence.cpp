@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <optional>
 #include <sstream>
 #include <utility>
 
 #include "valerant/common/error.h"
 #include "valerant/common/whole_integer.h"
+#include "valerant/world/quake3/units.h"
 
 namespace valerant {
 
@@ -61,9 +63,42 @@ std::pair<std::string, int> splitPrefix(const std::string& name) {
   return {base, *frames};
 }
 
+// "jq:114" -> "jq": a rotation candidate's key string with a frame count of its own.
+std::optional<std::string> turnCandidate(const std::string& name) {
+  for (const char* turn : {"jq", "lq"}) {
+    const std::string head = std::string(turn) + ":";
+    if (name.rfind(head, 0) == 0 && wholeInteger<int>(name.substr(head.size()))) return std::string(turn);
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
-std::string baseCandidate(const std::string& name) { return splitPrefix(name).first; }
+std::string baseCandidate(const std::string& name) {
+  if (const auto turn = turnCandidate(name)) return *turn;
+  return splitPrefix(name).first;
+}
+
+std::string turnName(double yaw_deg, const Config& config) {
+  const double rate = config.rollout.rotate_deg / config.rollout.horizon_frames;
+  const int frames = std::max(1, static_cast<int>(std::lround(std::abs(yaw_deg) / rate)));
+  return std::string(yaw_deg >= 0 ? "jq" : "lq") + ":" + std::to_string(frames);
+}
+
+std::string describeAction(const std::string& name, const Config& config) {
+  const ActionSequence seq = makeActionSequence(name, config);
+  const double yaw = seq.totalYawDeg();
+  const double metres = seq.totalForwardUnits() / quake3::kUnitsPerMetre;
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out << name << " (";
+  if (std::abs(yaw) >= 0.5) out << "turn " << std::setprecision(0) << std::abs(yaw) << " deg " << (yaw > 0 ? "left" : "right");
+  if (std::abs(yaw) >= 0.5 && metres != 0) out << ", ";
+  if (metres != 0) out << std::setprecision(1) << metres << " m forward";
+  if (std::abs(yaw) < 0.5 && metres == 0) out << "no motion";
+  out << ")";
+  return out.str();
+}
 
 std::string prefixName(const std::string& candidate, int frames) { return candidate + "@" + std::to_string(frames); }
 

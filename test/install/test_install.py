@@ -81,7 +81,7 @@ class InstallSpace(unittest.TestCase):
         self.assertEqual(status, 0, err)
         self.assertEqual(out.strip(), os.path.join(self.prefix, "share", "valerant"))
         share = out.strip()
-        for path in ["package.xml", "nodelet_plugins.xml", "config/valerant.yaml", "config/map_sets.yaml",
+        for path in ["package.xml", "nodelet_plugins.xml", "config/valerant.yaml", "config/paper.yaml", "config/map_sets.yaml",
                      "models/depth_prior.onnx", "rviz/valerant.rviz", "launch/explore.launch",
                      "launch/params/explorer.yaml", "msg/Decision.msg", "action/Explore.action"]:
             self.assertTrue(os.path.isfile(os.path.join(share, path)), path)

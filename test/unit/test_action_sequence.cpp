@@ -81,3 +81,28 @@ TEST(ActionSequence, CleanPrefixesAreTheirCandidatesFirstFrames) {
     }
   }
 }
+
+TEST(ActionSequence, TurnsOfAnyLengthRunOnTheirCandidatesBranch) {
+  const Config c;  // jq / lq turn 90 degrees over 57 frames: 90/57 degrees a frame
+  // 180 degrees right: 180 / (90/57) = 114 frames.
+  EXPECT_EQ(turnName(-180.0, c), "lq:114");
+  EXPECT_EQ(turnName(45.0, c), "jq:29");   // 28.5 rounds up
+  EXPECT_EQ(turnName(0.2, c), "jq:1");     // at least one frame
+  const ActionSequence right = makeActionSequence("lq:114", c);
+  ASSERT_EQ(right.steps.size(), 114u);
+  EXPECT_NEAR(right.totalYawDeg(), -180.0, 1e-9);
+  EXPECT_TRUE(right.rotationOnly());
+  EXPECT_EQ(baseCandidate("lq:114"), "lq");
+  EXPECT_EQ(baseCandidate("jq:29"), "jq");
+  EXPECT_EQ(baseCandidate("w:40"), "w:40");  // any other key string is no candidate
+  // Short turns are prefixes: jq@28 turns 28 * 90/57 degrees.
+  EXPECT_NEAR(makeActionSequence("jq@28", c).totalYawDeg(), 28 * 90.0 / 57, 1e-9);
+}
+
+TEST(ActionSequence, DescriptionsSayWhatAnActionDoes) {
+  const Config c;  // 256 units (8 m) over 57 frames; jw's tail 40 frames
+  EXPECT_EQ(describeAction("lq:114", c), "lq:114 (turn 180 deg right)");
+  EXPECT_EQ(describeAction("uw@32", c), "uw@32 (4.5 m forward)");  // 32 * 8 / 57 = 4.49
+  EXPECT_EQ(describeAction("jw", c), "jw (turn 45 deg left, 13.6 m forward)");  // 97 * 8 / 57 = 13.61
+  EXPECT_EQ(describeAction("q:3", c), "q:3 (no motion)");
+}

@@ -293,3 +293,52 @@ TEST(Config, MissingFileAndBadYamlAreNamed) {
   }
   EXPECT_NE(errorOf("policy: [1, 2").find("test.yaml: invalid YAML"), std::string::npos);
 }
+
+TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
+  const auto errorOfOverride = [](const std::string& key, const std::string& value) {
+    ConfigDocument d = ConfigDocument::load(kShipped);
+    try {
+      d.set(key, value, "--set " + key + "=" + value);
+      d.parse();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  ConfigDocument doc = ConfigDocument::load(kShipped);
+  doc.set("policy.short_translation_frames", "[32, 16]", "--set");
+  doc.set("policy.short_turn_frames", "[]", "--set");
+  doc.set("policy.goal_weight", "1.5", "--set");
+  const Config c = doc.parse();
+  EXPECT_EQ(c.policy.short_translation_frames, (std::vector<int>{32, 16}));
+  EXPECT_TRUE(c.policy.short_turn_frames.empty());
+  EXPECT_DOUBLE_EQ(c.policy.goal_weight, 1.5);
+  EXPECT_EQ(errorOfOverride("policy.short_translation_frames", "32"),
+            "--set policy.short_translation_frames=32: policy.short_translation_frames: expected a list such as "
+            "[32, 16], got '32'");
+  EXPECT_EQ(errorOfOverride("policy.short_translation_frames", "[32, x]"),
+            "--set policy.short_translation_frames=[32, x]: policy.short_translation_frames: expected a number in "
+            "the list, got 'x'");
+  EXPECT_EQ(errorOfOverride("policy.short_turn_frames", "[0]"),
+            "--set policy.short_turn_frames=[0]: policy.short_turn_frames: list value 0 outside [1, 10000]");
+  // A short action is a prefix of uw / jq: shorter than their 57 frames.
+  EXPECT_EQ(errorOfOverride("policy.short_translation_frames", "[57]"),
+            "--set policy.short_translation_frames=[57]: policy.short_translation_frames: 57 frames is not "
+            "shorter than rollout.horizon_frames (57)");
+  EXPECT_EQ(errorOfOverride("policy.goal_weight", "-1"),
+            "--set policy.goal_weight=-1: policy.goal_weight: value -1 outside [0, 1e+06]");
+  EXPECT_EQ(errorOfOverride("policy.open_turn", "maybe"),
+            "--set policy.open_turn=maybe: policy.open_turn: expected true or false, got 'maybe'");
+}
+
+TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
+  // The tests that build a Config in code run the shipped policy (docs/whole_level.md).
+  const Config shipped = loadConfig(std::string(VALERANT_SOURCE_DIR) + "/config/valerant.yaml");
+  const PolicyConfig built_in;
+  EXPECT_EQ(shipped.policy.goal_weight, built_in.goal_weight);
+  EXPECT_EQ(shipped.policy.obstacle_min_points, built_in.obstacle_min_points);
+  EXPECT_EQ(shipped.policy.short_translation_frames, built_in.short_translation_frames);
+  EXPECT_EQ(shipped.policy.short_turn_frames, built_in.short_turn_frames);
+  EXPECT_EQ(shipped.policy.open_turn, built_in.open_turn);
+  EXPECT_EQ(shipped.policy.opening_weight, built_in.opening_weight);
+}

@@ -22,6 +22,11 @@ Config smallConfig(int budget) {
   // At 96x72 every pixel is needed for RF's 300 floor inliers (the paper's count
   // assumes pixel-dense clouds); without a floor no translation can be judged.
   c.slam.cloud_stride_px = 1;
+  // The paper's candidates (and clean prefixes) only, unless a test asks for the short
+  // actions and the open turn (docs/whole_level.md).
+  c.policy.short_translation_frames.clear();
+  c.policy.short_turn_frames.clear();
+  c.policy.open_turn = false;
   return c;
 }
 
@@ -156,4 +161,34 @@ TEST(Episode, ADeadEndAheadCommitsACleanPrefix) {
   ASSERT_EQ(without.candidates.size(), 5u);
   ASSERT_GE(without.chosen, 0);
   EXPECT_TRUE(without.candidates[without.chosen].verdict.rotation_only);
+}
+
+// The same dead end without clean prefixes, with short actions ([ours],
+// roomActionRounds): after the five, uw, jw, lw cut to 32 frames, then to 16, then the
+// turns; the step commits a short translation that stays out of solid.
+TEST(Episode, ADeadEndAheadCommitsAShortTranslation) {
+  VALERANT_REQUIRE_OPENARENA();
+  Config config = smallConfig(1);
+  config.world.map = "oa_dm4";
+  config.collision.prefix_commits = false;
+  config.policy.short_translation_frames = {32, 16};
+  config.policy.short_turn_frames = {28};
+  config.policy.open_turn = true;
+  auto map = quake3::loadQuake3Map("oa_dm4", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  Episode episode(world, config);
+  const StepRecord r = episode.step();
+  ASSERT_GT(r.candidates.size(), 5u);
+  EXPECT_EQ(r.candidates[5].verdict.candidate, "uw@32");
+  EXPECT_EQ(r.candidates[6].verdict.candidate, "jw@32");
+  EXPECT_EQ(r.candidates[7].verdict.candidate, "lw@32");
+  ASSERT_GE(r.chosen, 5);
+  const CandidateRecord& chosen = r.candidates[r.chosen];
+  EXPECT_FALSE(chosen.verdict.rotation_only) << chosen.verdict.candidate;
+  EXPECT_NE(chosen.verdict.candidate.find('@'), std::string::npos) << chosen.verdict.candidate;
+  EXPECT_EQ(chosen.verdict.prefix_frames, static_cast<int>(chosen.truth.size()));  // clear to its end
+  for (const auto& f : chosen.truth) EXPECT_FALSE(f.in_solid);
+  // Every candidate carries the whole-level terms; turns have no goal term.
+  for (const auto& c : r.candidates)
+    if (c.verdict.rotation_only) EXPECT_EQ(c.verdict.goal, 0.0) << c.verdict.candidate;
 }

@@ -24,7 +24,9 @@ TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
   config.world.spawn = 0;
   config.policy.budget_steps = 2;
   config.slam.backend = "oracle";
-  config.collision.prefix_commits = false;  // every full translation collides here; a prefix would move
+  // Every full translation collides here; a clean prefix or a short translation would move.
+  config.collision.prefix_commits = false;
+  config.policy.short_translation_frames.clear();
   auto map = quake3::loadQuake3Map("oa_dm4", config.world.patch_level);
   quake3::Quake3World world(map, config);
   Episode episode(world, config);

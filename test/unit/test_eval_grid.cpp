@@ -48,6 +48,31 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(overridden("oracle").slam.backend, "oracle");
   EXPECT_EQ(overridden("frontier").policy.kind, "frontier");
   EXPECT_THROW(evalConfigOverrides("fast"), InputError);
+  const Config before = overridden("no-whole-level");
+  EXPECT_DOUBLE_EQ(before.policy.goal_weight, 0.0);
+  EXPECT_TRUE(before.policy.short_translation_frames.empty());
+  EXPECT_TRUE(before.policy.short_turn_frames.empty());
+  EXPECT_FALSE(before.policy.open_turn);
+  EXPECT_DOUBLE_EQ(before.policy.opening_weight, 0.0);
+  EXPECT_TRUE(before.collision.prefix_commits);  // our older additions stay
+  // The paper row is config/paper.yaml (its budget aside, which the grid sets).
+  const Config paper_row = overridden("paper");
+  const Config paper_file = loadConfig(std::string(VALERANT_SOURCE_DIR) + "/config/paper.yaml");
+  EXPECT_EQ(paper_file.policy.budget_steps, 15);
+  EXPECT_EQ(paper_file.policy.grid_cells, 128);
+  EXPECT_EQ(paper_row.policy.grid_cells, paper_file.policy.grid_cells);
+  EXPECT_EQ(paper_row.policy.goal_weight, paper_file.policy.goal_weight);
+  EXPECT_EQ(paper_row.policy.short_translation_frames, paper_file.policy.short_translation_frames);
+  EXPECT_EQ(paper_row.policy.short_turn_frames, paper_file.policy.short_turn_frames);
+  EXPECT_EQ(paper_row.policy.open_turn, paper_file.policy.open_turn);
+  EXPECT_EQ(paper_row.policy.opening_weight, paper_file.policy.opening_weight);
+  EXPECT_EQ(paper_row.collision.previous_steps, paper_file.collision.previous_steps);
+  EXPECT_EQ(paper_row.collision.prefix_commits, paper_file.collision.prefix_commits);
+  EXPECT_FALSE(paper_file.collision.prefix_commits);
+  EXPECT_EQ(paper_file.collision.previous_steps, 0);
+  EXPECT_DOUBLE_EQ(paper_file.policy.goal_weight, 0.0);
+  EXPECT_TRUE(paper_file.policy.short_translation_frames.empty());
+  EXPECT_FALSE(paper_file.policy.open_turn);
 }
 
 TEST(EvalReport, MeansPerConfiguration) {

@@ -216,3 +216,36 @@ TEST(Policy, BaselinesChooseAmongTheAdmissible) {
   }
   EXPECT_EQ(seen.size(), 4u);
 }
+
+TEST(Policy, WholeLevelTermsJoinTheScore) {
+  // eq. 2 plus goal_weight G + opening_weight O ([ours]): with lambda_cov 1, lambda_prog 5,
+  // goal_weight 2 and opening_weight 0.5,
+  //   uw@32: C 0.5, P 0.5, G -0.25 -> 0.5 + 2.5 - 0.5 = 2.5
+  //   jw@32: C 0.5, P 0.4, G  0.25 -> 0.5 + 2.0 + 0.5 = 3.0 (the goal outweighs the progress)
+  //   jq:114: C 0.25, O 1 -> 0.25 + 0.5 = 0.75;  jq: C 0.25, O 0.125 -> 0.3125
+  std::vector<BranchVerdict> v(4);
+  v[0].candidate = "uw@32", v[0].coverage = 0.5, v[0].progress = 0.5, v[0].goal = -0.25;
+  v[1].candidate = "jw@32", v[1].coverage = 0.5, v[1].progress = 0.4, v[1].goal = 0.25;
+  v[2].candidate = "jq:114", v[2].coverage = 0.25, v[2].opening = 1.0, v[2].rotation_only = true;
+  v[3].candidate = "jq", v[3].coverage = 0.25, v[3].opening = 0.125, v[3].rotation_only = true;
+  PolicyConfig config;
+  config.goal_weight = 2.0;
+  config.opening_weight = 0.5;
+  EXPECT_EQ(selectBranch(v, config), 1);
+  EXPECT_DOUBLE_EQ(v[0].score, 2.5);
+  EXPECT_DOUBLE_EQ(v[1].score, 3.0);
+  EXPECT_DOUBLE_EQ(v[2].score, 0.75);
+  EXPECT_DOUBLE_EQ(v[3].score, 0.3125);
+  v[0].collision_pc = v[1].collision_pc = true;
+  EXPECT_EQ(selectBranch(v, config), 2);  // turns rank by where they face
+  // The paper's weights (0) ignore both terms: uw@32 3.0 against jw@32 2.5.
+  PolicyConfig paper;
+  paper.goal_weight = paper.opening_weight = 0;
+  EXPECT_EQ(selectBranch(v, paper), 2);  // (uw, jw still colliding) jq:114 first of equal turns
+  v[0].collision_pc = v[1].collision_pc = false;
+  EXPECT_EQ(selectBranch(v, paper), 0);
+  EXPECT_DOUBLE_EQ(v[0].score, 3.0);
+  v[0].short_unclear = true;  // uw@32 stops short of its end's clearance: out
+  EXPECT_EQ(selectBranch(v, paper), 1);
+  EXPECT_EQ(v[0].reason, "short action not clear to its end");
+}

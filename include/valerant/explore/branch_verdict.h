@@ -20,6 +20,15 @@ struct BranchVerdict {
   // happened, 0 when no prefix advances far enough.
   int prefix_frames = 0;
   double c_new = 0, c_front = 0, coverage = 0, progress = 0;
+  // [ours] whole-level terms (docs/whole_level.md): G, the approach to the nearest
+  // reachable frontier (frontier_distance.h), and O, the opening ahead of an in-place
+  // turn's final heading (open_direction.h; 0 for a translation).
+  double goal = 0, opening = 0;
+  // [ours] A short translation (policy.short_translation_frames) whose clean prefix is
+  // shorter than itself: short actions end in front of walls by design, and the paper's
+  // tests let a rollout's last frames come close (s_min(l) shrinks to 0 at its end), so
+  // they are held to the clean prefix's margins (clean_prefix.h) to their last frame.
+  bool short_unclear = false;
   double score = 0;
   bool admissible = false;
   std::string reason;  // "" when admissible

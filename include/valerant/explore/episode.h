@@ -7,7 +7,9 @@
 // SLAM branch are reused: both backends are deterministic) and fused into the map; a
 // dead pocket rewinds to an earlier checkpoint and grows the failed-region memory
 // (eq. 8). When none of the five translations is admissible, the clean prefixes of the
-// rejected ones are judged too and the choice is made again ([ours], clean_prefix.h).
+// rejected ones are judged too and the choice is made again ([ours], clean_prefix.h);
+// then, while still none is, shorter translations and turns ([ours], roomActionRounds).
+// Every candidate also gets the whole-level terms G and O (docs/whole_level.md).
 // The same step code runs with in-process components (valerant_explore) and with the
 // ROS graph's proxies (the explorer node): one code path, the same decisions.
 #include <atomic>
@@ -86,6 +88,7 @@ class Episode {
 
  private:
   struct Candidates {  // one step's judged candidates, index-aligned
+    std::vector<std::string> names;
     std::vector<BranchResult> results;
     std::vector<std::vector<Eigen::Vector3d>> centres;  // committed start, then one per frame
     std::vector<BranchVerdict> verdicts;
@@ -103,9 +106,21 @@ class Episode {
   // The clean prefixes (clean_prefix.h) worth judging after the first choice: none
   // while one of the paper's translations is admissible.
   std::vector<std::string> cleanPrefixes(const Candidates& judged) const;
+  // The cells no path or ray of the whole-level terms may cross: F, less the start cell.
+  std::set<Cell> blockedFrom(const Cell& start) const;
+  // An admissible translation was judged: the agent moves on.
+  static bool movesOn(const Candidates& judged);
+  // [ours] Actions that fit the room (policy.short_translation_frames, short_turn_frames,
+  // open_turn; docs/whole_level.md): rounds judged in order while no translation is
+  // admissible: each short length's uw, jw, lw, then the short and open turns.
+  std::vector<std::vector<std::string>> roomActionRounds() const;
+  // The turn of the open-turn candidate, degrees left: toward the goal's waypoint
+  // (frontier_distance.h) when it lies off the heading, else to the longest free ray.
+  std::optional<double> openTurnDeg() const;
   // Fuses the keyframes of a result whose floor is known; returns how many.
   size_t fuseKnown(const BranchResult& result);
   void anchorGrid(bool reliable_floor);
+  void markGrid(const FusedKeyframe& keyframe);
   void commit(const BranchResult& chosen, const std::vector<Eigen::Vector3d>& centres);
   void rewind(const RewindDecision& decision, StepRecord& record);
   void release(const std::vector<uint64_t>& checkpoints);

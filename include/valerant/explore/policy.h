@@ -1,8 +1,10 @@
 #pragma once
 // Action selection, paper eq. 2:
-//   m* = argmax_{m admissible} lambda_cov C_m + lambda_prog P_m
+//   m* = argmax_{m admissible} lambda_cov C_m + lambda_prog P_m  [+ goal_weight G_m + opening_weight O_m]
+// (the bracketed whole-level terms are [ours], 0 by the paper: docs/whole_level.md).
 // A candidate is admissible when neither collision test fired (B = 0), its SLAM did
-// not lose track and it does not enter the failed-region memory. Ties go to the
+// not lose track and it does not enter the failed-region memory ([ours]: and a short
+// translation is clear to its end, branch_verdict.h). Ties go to the
 // candidate listed first (the paper's order uw, jw, lw, jq, lq), so a run is
 // deterministic. No admissible candidate: a stall (returns -1).
 //

@@ -18,6 +18,14 @@
 //  - P       = |horizontal displacement x_L - x_0| / (d_fwd * kappa_0): forward progress
 //              in nominal forward actions, independent of the direction turned.
 // Positions outside the grid are clamped out (they add no cells).
+//
+// A third layer counts obstacle points ([ours], policy.obstacle_min_points): map points
+// between the collision test's heights (height_low <= h <= height_high). It feeds the
+// whole-level goal (frontier_distance.h) and the open direction (open_direction.h);
+// the paper's terms above do not read it:
+//  - obstacle: a cell holding at least obstacle_min_points obstacle points.
+//  - walkable: a visited cell (the agent stood there), or observed floor that is no obstacle.
+//  - unknown:  neither observed floor, obstacle nor visited.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <set>
@@ -49,12 +57,20 @@ class CoverageGrid {
   // Cell of a map-frame point projected onto the anchor floor; false when outside.
   bool cellOf(const Eigen::Vector3d& p, Cell& cell) const;
   double cellSize() const { return cell_size_; }
+  int cellsPerForwardAction() const { return config_.cells_per_d_fwd; }
   int size() const { return size_; }
 
   void markVisited(const Eigen::Vector3d& camera_centre);
   void markObservedFloor(const Eigen::Vector3d& point);
+  void markObstaclePoint(const Eigen::Vector3d& point);
   bool visited(const Cell& c) const { return inside(c) && visited_[index(c)]; }
   bool observed(const Cell& c) const { return inside(c) && observed_[index(c)]; }
+  bool obstacle(const Cell& c) const {
+    return inside(c) && obstacle_points_[index(c)] >= static_cast<uint32_t>(config_.obstacle_min_points);
+  }
+  bool walkable(const Cell& c) const { return visited(c) || (observed(c) && !obstacle(c)); }
+  bool unknown(const Cell& c) const { return inside(c) && !observed(c) && !visited(c) && !obstacle(c); }
+  bool inside(const Cell& c) const { return c.first >= 0 && c.second >= 0 && c.first < size_ && c.second < size_; }
   bool isFrontier(const Cell& c) const;
 
   // Scores a candidate from its camera centres (first = the start of the candidate).
@@ -69,7 +85,6 @@ class CoverageGrid {
   Eigen::Vector3d cellCentre(const Cell& c) const;
 
  private:
-  bool inside(const Cell& c) const { return c.first >= 0 && c.second >= 0 && c.first < size_ && c.second < size_; }
   size_t index(const Cell& c) const { return static_cast<size_t>(c.first) * size_ + c.second; }
   double frontierDistance(const Cell& from) const;
 
@@ -78,6 +93,7 @@ class CoverageGrid {
   double cell_size_, d_fwd_map_;
   Eigen::Vector3d origin_, axis_u_, axis_v_, normal_;
   std::vector<uint8_t> visited_, observed_;
+  std::vector<uint32_t> obstacle_points_;
 };
 
 }  // namespace valerant

@@ -8,7 +8,12 @@
 //   uw = "w:H"      jw = "jw:H,w:T"   lw = "lw:H,w:T"   jq = "j:H"   lq = "l:H"
 // A candidate's clean prefix ([ours], collision.prefix_commits) is named
 // "<candidate>@<frames>", e.g. "uw@31" = the first 31 frames of uw: the part of a
-// rejected translation that stops short of the obstacle (clean_prefix.h).
+// rejected translation that stops short of the obstacle (clean_prefix.h); the same form
+// names the fixed-length short translations and turns ([ours], policy.short_*_frames).
+// An in-place turn of any length is "<jq|lq>:<frames>", e.g. "lq:114" = lq's turn held
+// for 114 frames (180 degrees right): the turn to the open direction ([ours],
+// policy.open_turn). It is also a key string ('j' / 'l' turn, 'q' stands still), read
+// as such; its candidate (the branch it runs on in the ROS graph) is jq or lq.
 #include <string>
 #include <vector>
 
@@ -36,8 +41,14 @@ const std::vector<std::string>& candidateNames();
 
 // "uw@31" for the first 31 frames of uw (makeActionSequence checks the count).
 std::string prefixName(const std::string& candidate, int frames);
-// The paper candidate a name is (a prefix of): "uw@31" -> "uw", "jq" -> "jq".
+// The paper candidate a name is (a prefix or a turn of): "uw@31" -> "uw", "jq" -> "jq",
+// "lq:114" -> "lq"; any other key string is returned whole.
 std::string baseCandidate(const std::string& name);
+// The in-place turn by `yaw_deg` (left positive) at jq / lq's rate: "jq:<frames>" or
+// "lq:<frames>", frames = round(|yaw| / (rotate_deg / H)), at least 1.
+std::string turnName(double yaw_deg, const Config& config);
+// A name with what it does, for logs: "lq:114 (turn 180 deg right)", "uw@32 (4.5 m forward)".
+std::string describeAction(const std::string& name, const Config& config);
 
 // A candidate name (uw, jw, lw, jq, lq), a candidate prefix (uw@31) or a key string. Speeds: w moves d_fwd/H
 // units per frame; j/l turn rotate_deg/H per frame, except inside jw/lw whose turn
