@@ -26,11 +26,10 @@ const std::map<std::string, std::vector<std::string>>& configOverrides() {
       {"random", {"policy.kind=random"}},
       {"forward", {"policy.kind=forward"}},
       {"frontier", {"policy.kind=frontier"}},
-      // full without the whole-level options (docs/whole_level.md): full as
-      // docs/evaluation.md measured it before them.
-      {"no-whole-level",
-       {"policy.goal_weight=0", "policy.short_translation_frames=[]", "policy.short_turn_frames=[]",
-        "policy.open_turn=false", "policy.opening_weight=0"}},
+      // full with the whole-level options on (docs/whole_level.md; off by default).
+      {"whole-level",
+       {"policy.goal_weight=1", "policy.short_translation_frames=[32,16]", "policy.short_turn_frames=[28]",
+        "policy.open_turn=true", "policy.opening_weight=0.5"}},
       // The paper's method without our additions: config/paper.yaml's overrides (a unit
       // test keeps the two the same); the grid's --budget sets the steps.
       {"paper",

@@ -48,13 +48,17 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(overridden("oracle").slam.backend, "oracle");
   EXPECT_EQ(overridden("frontier").policy.kind, "frontier");
   EXPECT_THROW(evalConfigOverrides("fast"), InputError);
-  const Config before = overridden("no-whole-level");
-  EXPECT_DOUBLE_EQ(before.policy.goal_weight, 0.0);
-  EXPECT_TRUE(before.policy.short_translation_frames.empty());
-  EXPECT_TRUE(before.policy.short_turn_frames.empty());
-  EXPECT_FALSE(before.policy.open_turn);
-  EXPECT_DOUBLE_EQ(before.policy.opening_weight, 0.0);
-  EXPECT_TRUE(before.collision.prefix_commits);  // our older additions stay
+  const Config whole_level = overridden("whole-level");
+  EXPECT_DOUBLE_EQ(whole_level.policy.goal_weight, 1.0);
+  EXPECT_EQ(whole_level.policy.short_translation_frames, (std::vector<int>{32, 16}));
+  EXPECT_EQ(whole_level.policy.short_turn_frames, (std::vector<int>{28}));
+  EXPECT_TRUE(whole_level.policy.open_turn);
+  EXPECT_DOUBLE_EQ(whole_level.policy.opening_weight, 0.5);
+  EXPECT_TRUE(whole_level.collision.prefix_commits);  // our older additions stay
+  const Config full = overridden("full");  // the whole-level options are off by default
+  EXPECT_DOUBLE_EQ(full.policy.goal_weight, 0.0);
+  EXPECT_TRUE(full.policy.short_translation_frames.empty());
+  EXPECT_FALSE(full.policy.open_turn);
   // The paper row is config/paper.yaml (its budget aside, which the grid sets).
   const Config paper_row = overridden("paper");
   const Config paper_file = loadConfig(std::string(VALERANT_SOURCE_DIR) + "/config/paper.yaml");
