@@ -312,6 +312,25 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.finish();
 }
 
+void readLoopClosure(Section s, LoopClosureConfig& l) {
+  s.boolean("enabled", l.enabled);
+  s.number("min_age_keyframes", l.min_age_keyframes, 1, 1000000);
+  s.number("radius_eye_heights", l.radius_eye_heights, 0.0, 1e4);
+  s.number("max_view_angle_deg", l.max_view_angle_deg, 0.0, 180.0);
+  s.number("max_candidates", l.max_candidates, 1, 1000);
+  s.number("features", l.features, 10, 100000);
+  s.number("ratio", l.ratio, 0.01f, 1.f);
+  s.number("max_distance", l.max_distance, 0.f, 256.f);
+  s.number("min_matches", l.min_matches, 4, 100000);
+  s.number("min_inliers", l.min_inliers, 4, 100000);
+  s.number("pnp_threshold_px", l.pnp_threshold_px, 1e-3, 100.0);
+  s.number("max_offset_eye_heights", l.max_offset_eye_heights, 0.0, 1e4);
+  s.number("max_rotation_deg", l.max_rotation_deg, 0.0, 180.0);
+  s.number("max_scale_ratio", l.max_scale_ratio, 1.0, 100.0);
+  s.number("max_iterations", l.max_iterations, 1, 10000);
+  s.finish();
+}
+
 }  // namespace
 
 namespace {
@@ -462,6 +481,7 @@ Config ConfigDocument::parse() const {
   exports.number("render_cut_eye_heights", c.exports.render_cut_eye_heights, 0.0, 1e3);
   exports.number("overview_pixels_per_metre", c.exports.overview_pixels_per_metre, 0.1, 1000.0);
   exports.finish();
+  readLoopClosure(top.child("loop_closure"), c.loop_closure);
   top.finish();
   if (c.collision.height_low >= c.collision.height_high)
     throw InputError(source, "collision.height_low: must be below collision.height_high");
@@ -480,6 +500,8 @@ Config ConfigDocument::parse() const {
                 v.sweep.max_planes);
   requireAtMost(source, "slam.visual.sweep.min_baseline_ratio", v.sweep.min_baseline_ratio,
                 "slam.visual.sweep.max_baseline_ratio", v.sweep.max_baseline_ratio);
+  requireAtMost(source, "loop_closure.min_inliers", c.loop_closure.min_inliers, "loop_closure.min_matches",
+                c.loop_closure.min_matches);
   return c;
 }
 

@@ -10,12 +10,14 @@
 #include "valerant/eval/coverage_curve.h"
 #include "valerant/eval/episode_truth.h"
 #include "valerant/eval/map_accuracy.h"
+#include "valerant/eval/trajectory_metrics.h"
 #include "valerant/explore/episode_json.h"
 #include "valerant/explore/topdown_image.h"
 #include "valerant/map/run_exports.h"
 #include "valerant/map/run_map.h"
 #include "valerant/world/quake3/reachable_floor.h"
 #include "valerant/world/quake3/surface_samples.h"
+#include "valerant/world/quake3/units.h"
 
 namespace valerant {
 namespace {
@@ -86,6 +88,50 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
           {"missed_collisions", truth.missed_collisions}};
 }
 
+// Closures made (each with its numbers) and verified candidates rejected, counted by
+// reason (loop_verifier.h), over the committed history; with ground truth, the ATE of
+// the same path as the SLAM made it (no closures), beside the report's corrected one.
+nlohmann::json loopClosures(const Episode& episode) {
+  const LoopClosure* closure = episode.loopClosure();
+  nlohmann::json out = {{"enabled", closure != nullptr}, {"made", 0}, {"rejected", 0},
+                        {"rejected_by_reason", nlohmann::json::object()}, {"closures", nlohmann::json::array()}};
+  if (!closure) return out;
+  out["keyframes"] = closure->keyframes();
+  const size_t n = std::min(closure->odometry().size(), episode.truth().size());
+  if (n > 0) {
+    std::vector<Eigen::Isometry3d> truth_metres;
+    for (size_t i = 0; i < n; ++i) {
+      Eigen::Isometry3d pose = episode.truth()[i].camera_to_world;
+      pose.translation() /= quake3::kUnitsPerMetre;
+      truth_metres.push_back(pose);
+    }
+    const TrajectoryError slam = trajectoryError(
+        std::vector<Eigen::Isometry3d>(closure->odometry().begin(), closure->odometry().begin() + n), truth_metres);
+    if (slam.aligned) {
+      out["slam_ate_rmse_m"] = slam.ate_rmse;
+      out["slam_ate_percent"] = slam.ate_percent;
+    }
+  }
+  for (const LoopClosureRecord& r : closure->records()) {
+    const LoopVerification& v = r.verification;
+    if (!v.accepted) {
+      out["rejected"] = out["rejected"].get<int>() + 1;
+      out["rejected_by_reason"][v.reason] = out["rejected_by_reason"].value(v.reason, 0) + 1;
+      continue;
+    }
+    out["made"] = out["made"].get<int>() + 1;
+    out["closures"].push_back({{"step", r.step},
+                               {"new_keyframe", r.new_keyframe},
+                               {"old_keyframe", r.old_keyframe},
+                               {"matches", v.matches},
+                               {"inliers", v.inliers},
+                               {"offset_eye_heights", v.offset_eye_heights},
+                               {"rotation_deg", v.rotation_deg},
+                               {"scale_ratio", v.scale_ratio}});
+  }
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json runReportHeader(const std::string& tool, const Config& config) {
@@ -99,7 +145,8 @@ nlohmann::json runReportHeader(const std::string& tool, const Config& config) {
           {"rf", config.floor.enabled},
           {"col_pc", config.collision.pointcloud_enabled},
           {"col_depth", config.collision.depth_enabled},
-          {"dp", config.dead_pocket.enabled}};
+          {"dp", config.dead_pocket.enabled},
+          {"loop_closure", config.loop_closure.enabled}};
 }
 
 double snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
@@ -167,6 +214,7 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
       for (const auto& c : s.candidates) n += c.truth.size();
     return n;
   }();
+  report["loop_closures"] = loopClosures(episode);
   if (map) report["ground_truth"] = groundTruth(episode, *map, cloud);
 }
 

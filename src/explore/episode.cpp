@@ -47,6 +47,8 @@ Episode::Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline
       d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units),
       map_(config.map, config.collision),
       rewinder_(config.dead_pocket) {
+  if (config.loop_closure.enabled)  // the oracle SLAM is metric: no scale to correct
+    loop_closure_.emplace(config.loop_closure, world.intrinsics(), config.slam.backend != "oracle");
   const Rollout context = world_.context();
   const BranchResult start = pipeline_.start(context);
   if (start.poses.empty()) throw InputError("world model context", "no frame was tracked (empty context)");
@@ -55,6 +57,7 @@ Episode::Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline
   appendCommittedTruth(truth_, std::vector<FrameTruth>(context.truth.begin(),
                                                         context.truth.begin() + std::min(context.truth.size(), start.poses.size())));
   anchorGrid(start.floor_reliable);
+  if (loop_closure_) loop_closure_->commit(start, 0, anchor_kappa_, map_, trajectory_);
 }
 
 void Episode::anchorGrid(bool reliable_floor) {
@@ -65,6 +68,10 @@ void Episode::anchorGrid(bool reliable_floor) {
   anchor_heading_ = start.linear().col(2);
   anchor_kappa_ = anchor_floor_.cameraHeight();
   anchored_on_reliable_floor_ = reliable_floor;
+  rebuildGrid();
+}
+
+void Episode::rebuildGrid() {
   grid_.emplace(config_.policy, anchor_floor_, anchor_heading_, d_fwd_normalised_);
   for (const auto& pose : trajectory_) grid_->markVisited(pose.translation());
   for (const auto& kf : map_.keyframes()) markGrid(*kf);
@@ -110,7 +117,7 @@ StepRecord Episode::step() {
   record.step = ++steps_;
   record.checkpoint = world_.checkpoint();
   pipeline_.checkpoint(record.checkpoint);
-  saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_});
+  saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_, loop_closure_});
   Cell start_cell{-1, -1};
   grid_->cellOf(trajectory_.back().translation(), start_cell);
 
@@ -191,7 +198,7 @@ void Episode::judge(const std::vector<std::string>& names, const Cell& start_cel
     const BranchResult& result = out.results.back();
     record.seconds += result.seconds;
     const auto t = std::chrono::steady_clock::now();
-    out.centres.push_back(centresOf(start_centre, result.poses));
+    out.centres.push_back(centresOf(start_centre, loop_closure_ ? loop_closure_->toMap(result.poses) : result.poses));
     BranchVerdict v = result.verdict;
     const CoverageTerms terms = grid_->score(out.centres.back());
     v.c_new = terms.c_new;
@@ -277,9 +284,15 @@ void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector
   const size_t fused = fuseKnown(chosen);
   trajectory_.insert(trajectory_.end(), chosen.poses.begin(), chosen.poses.end());
   appendCommittedTruth(truth_, chosen.rollout.truth);
+  // Maps the new poses and keyframes into the corrected frame; a closure moves older ones too.
+  const bool closed = loop_closure_ && loop_closure_->commit(chosen, committed_steps_ + 1, anchor_kappa_, map_, trajectory_);
   ++committed_steps_;
   if (!anchored_on_reliable_floor_ && chosen.floor_reliable) {
     anchorGrid(true);
+    return;
+  }
+  if (closed) {
+    rebuildGrid();
     return;
   }
   for (const auto& c : centres) grid_->markVisited(c);
@@ -295,6 +308,10 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
   trajectory_.resize(s.trajectory_size);
   if (truth_.size() > s.trajectory_size) truth_.resize(s.trajectory_size);
   committed_steps_ = s.committed_steps;
+  if (loop_closure_) {  // closures made after the checkpoint are undone
+    loop_closure_ = s.loop_closure;
+    loop_closure_->restoreInto(map_, trajectory_);
+  }
   failed_.add(decision.failed_cells);
   record.rewind = true;
   record.rewind_to = decision.checkpoint;

@@ -168,6 +168,29 @@ struct SlamConfig {
   VisualSlamConfig visual;         // the visual backend's tuning (visual_slam_config.h)
 };
 
+// Loop closure over the committed keyframes [ours] (docs/loop_closure.md): a new
+// committed keyframe is matched against older ones near its predicted pose (ORB, ratio
+// test, RANSAC PnP on the old keyframe's depth), and a verified match becomes a
+// constraint of the keyframe pose graph, optimised with Ceres (Sim(3) for the visual
+// SLAM, SE(3) for the metric oracle). Off: the map is the SLAM's, as before.
+struct LoopClosureConfig {
+  bool enabled = false;
+  int min_age_keyframes = 30;         // candidates are at least this many committed keyframes older
+  double radius_eye_heights = 4.0;    // ... with camera centres this close to the new one's predicted centre
+  double max_view_angle_deg = 45;     // ... and optical axes this close
+  int max_candidates = 3;             // nearest candidates verified per new keyframe
+  int features = 500;                 // ORB features per keyframe
+  float ratio = 0.8f;                 // Lowe's ratio test on Hamming distances
+  float max_distance = 64;            // Hamming distance of an acceptable match, of 256 bits
+  int min_matches = 40;               // ratio-test matches with depth on the old keyframe
+  int min_inliers = 30;               // RANSAC PnP inliers
+  double pnp_threshold_px = 2.0;      // RANSAC PnP inlier distance
+  double max_offset_eye_heights = 2.0;  // the match may move the new keyframe this far from its prediction
+  double max_rotation_deg = 20;       // ... and turn it this much
+  double max_scale_ratio = 1.5;       // ... and rescale it by at most this factor (either way)
+  int max_iterations = 50;            // Ceres iterations of one pose graph optimisation
+};
+
 struct Config {
   WorldConfig world;
   RolloutConfig rollout;
@@ -178,6 +201,7 @@ struct Config {
   MapConfig map;
   SlamConfig slam;
   ExportConfig exports;
+  LoopClosureConfig loop_closure;
 };
 
 // One configuration as text: a YAML file whose `extends: BASE` (a path relative to the

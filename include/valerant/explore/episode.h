@@ -24,6 +24,7 @@
 #include "valerant/explore/branch_pipeline.h"
 #include "valerant/explore/branch_selector.h"
 #include "valerant/explore/failed_region_memory.h"
+#include "valerant/explore/loop_closure.h"
 #include "valerant/explore/rewind_controller.h"
 #include "valerant/geometry/coverage_grid.h"
 #include "valerant/map/map_fusion.h"
@@ -83,6 +84,8 @@ class Episode {
   const FloorPlane& gridAnchor() const { return anchor_floor_; }
   const Eigen::Vector3d& gridHeading() const { return anchor_heading_; }
   const Config& config() const { return config_; }
+  // The committed keyframes' loop closure (loop_closure.h); null when it is off.
+  const LoopClosure* loopClosure() const { return loop_closure_ ? &*loop_closure_ : nullptr; }
   // What the player sees now: the last committed frame (RGB; empty before any frame).
   cv::Mat currentView() const;
 
@@ -97,6 +100,7 @@ class Episode {
     CoverageGrid grid;
     size_t map_marker, trajectory_size;
     int committed_steps;
+    std::optional<LoopClosure> loop_closure;
   };
   // Uses `pipeline` and `selector` when given, else the owned ones.
   Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline, std::unique_ptr<BranchSelector> own_selector,
@@ -121,6 +125,8 @@ class Episode {
   size_t fuseKnown(const BranchResult& result);
   void anchorGrid(bool reliable_floor);
   void markGrid(const FusedKeyframe& keyframe);
+  // The coverage grid made afresh on its anchor from the trajectory and the map.
+  void rebuildGrid();
   void commit(const BranchResult& chosen, const std::vector<Eigen::Vector3d>& centres);
   void rewind(const RewindDecision& decision, StepRecord& record);
   void release(const std::vector<uint64_t>& checkpoints);
@@ -145,6 +151,7 @@ class Episode {
   std::vector<Eigen::Isometry3d> trajectory_;
   std::vector<FrameTruth> truth_;
   std::vector<StepRecord> history_;
+  std::optional<LoopClosure> loop_closure_;  // map and trajectory are in its corrected frame
   int committed_steps_ = 0, steps_ = 0;
 };
 

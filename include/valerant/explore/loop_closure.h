@@ -1,0 +1,97 @@
+#pragma once
+// Loop closure over the committed keyframes [ours] (docs/loop_closure.md). The SLAM
+// keeps running in its own frame as odometry; this keeps the pose graph of every
+// committed keyframe (nodes in commit order, odometry edges between consecutive ones
+// from the SLAM's poses, loop edges from verified matches) and each keyframe's
+// correction C_i = S_i T_i^-1 from the SLAM frame to the corrected map frame (S_i its
+// optimised pose, T_i its SLAM pose). A committed keyframe is compared with the older
+// keyframes (at least min_age_keyframes before it) whose corrected camera centre is
+// near its predicted one (the latest correction applied to its SLAM pose) and whose
+// view direction is close; the nearest few are verified (loop_verifier.h). Each
+// verified match adds a loop edge; a commit that added any optimises the graph
+// (pose_graph.h) and rewrites the whole map and trajectory from the new corrections.
+// Frames take the correction of the latest keyframe at or before them.
+//
+// Only commits reach it, so candidate branches never close loops; a copy of it is
+// part of every checkpoint, so a rewind to before a closure undoes the closure.
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+#include "valerant/common/camera.h"
+#include "valerant/config/config.h"
+#include "valerant/explore/branch_pipeline.h"
+#include "valerant/explore/keyframe_features.h"
+#include "valerant/explore/loop_verifier.h"
+#include "valerant/explore/pose_graph.h"
+#include "valerant/geometry/similarity3.h"
+#include "valerant/map/map_fusion.h"
+
+namespace valerant {
+
+// One verified candidate, made or rejected.
+struct LoopClosureRecord {
+  int step = 0;                 // committed step that brought the new keyframe (0: the context)
+  size_t new_keyframe = 0;      // pose graph nodes: committed keyframes in commit order
+  size_t old_keyframe = 0;
+  LoopVerification verification;
+};
+
+class LoopClosure {
+ public:
+  // `estimate_scale`: a Sim(3) graph for a monocular SLAM, SE(3) for a metric one.
+  LoopClosure(const LoopClosureConfig& config, const CameraIntrinsics& intrinsics, bool estimate_scale);
+
+  // After the episode fused `result`'s keyframes of known floor into `map` (its last
+  // ones) and appended its poses to `trajectory`, both as the SLAM made them: maps them
+  // into the corrected frame, looks for loops from its keyframes and, when it found
+  // any, optimises and rewrites all of `map` and `trajectory`. `eye_height`: one eye
+  // height in map units. Returns true when earlier keyframes and frames moved.
+  bool commit(const BranchResult& result, int step, double eye_height, MapFusion& map,
+              std::vector<Eigen::Isometry3d>& trajectory);
+  // Puts this state's map and trajectory back into the episode's (after a rewind).
+  void restoreInto(MapFusion& map, std::vector<Eigen::Isometry3d>& trajectory) const;
+
+  // SLAM-frame poses in the corrected map frame, by the latest correction.
+  std::vector<Eigen::Isometry3d> toMap(const std::vector<Eigen::Isometry3d>& slam_poses) const;
+
+  const std::vector<LoopClosureRecord>& records() const { return records_; }
+  // The committed frames' poses as the SLAM made them (the trajectory without closures).
+  const std::vector<Eigen::Isometry3d>& odometry() const { return odometry_; }
+  size_t made() const { return loops_.size(); }
+  size_t keyframes() const { return nodes_.size(); }
+  // The correction of a committed keyframe (pose graph node).
+  const Similarity3& correction(size_t keyframe) const { return nodes_.at(keyframe).correction; }
+
+ private:
+  struct Node {
+    Eigen::Isometry3d odometry;  // the SLAM's camera_to_map
+    Similarity3 correction;             // SLAM frame -> map frame
+    std::shared_ptr<const KeyframeFeatures> features;  // null without an image
+  };
+  Similarity3 pose(size_t node) const { return nodes_[node].correction * Similarity3::fromIsometry(nodes_[node].odometry); }
+  Similarity3 latestCorrection() const { return nodes_.empty() ? Similarity3{} : nodes_.back().correction; }
+  const Similarity3& frameCorrection(size_t frame) const;
+  // Verifies the candidates of node `j`; true when one became a loop edge.
+  bool detect(size_t j, int step, double eye_height);
+  void optimise(double eye_height);
+  // Rewrites map keyframes from `first_keyframe` and frames from `first_frame`.
+  void rewrite(size_t first_keyframe, size_t first_frame, MapFusion& map, std::vector<Eigen::Isometry3d>& trajectory);
+
+  LoopClosureConfig config_;
+  CameraIntrinsics intrinsics_;
+  bool estimate_scale_;
+  std::vector<Node> nodes_;
+  std::vector<PoseGraphEdge> loops_;
+  std::vector<LoopClosureRecord> records_;
+  // Aligned with the episode's map: each keyframe as fused in the SLAM frame, as in the
+  // map (corrected), and its node.
+  std::vector<std::shared_ptr<const FusedKeyframe>> fused_, corrected_;
+  std::vector<size_t> keyframe_nodes_;
+  // Aligned with the episode's trajectory: SLAM poses and the node each follows (-1:
+  // before the first keyframe, never corrected: node 0 is the graph's fixed gauge).
+  std::vector<Eigen::Isometry3d> odometry_;
+  std::vector<long> frame_nodes_;
+};
+
+}  // namespace valerant

@@ -1,0 +1,34 @@
+#pragma once
+// The keyframe pose graph of loop closure, optimised with Ceres: each node is a
+// keyframe's camera-to-map similarity S_i, each edge a measured relative transform
+// Z_ij ~ S_i^-1 S_j (odometry between consecutive committed keyframes, or a verified
+// loop). Residual of an edge, E = Z_ij^-1 S_i^-1 S_j:
+//   translation of E / translation_unit (3), rotation of E as angle-axis (3),
+//   ln(scale of E) (1, only when scale is estimated),
+// all with unit weight, as ORB-SLAM's essential graph weighs its edges. A monocular
+// SLAM drifts in scale, so its graph is Sim(3) (estimate_scale); a metric one keeps
+// every scale at 1 (SE(3)). Node 0 is held fixed: it fixes the map frame (gauge).
+#include <cstddef>
+#include <vector>
+
+#include "valerant/geometry/similarity3.h"
+
+namespace valerant {
+
+struct PoseGraphEdge {
+  size_t from = 0, to = 0;
+  Similarity3 relative;  // measured S_from^-1 S_to
+};
+
+struct PoseGraphOptions {
+  bool estimate_scale = true;
+  double translation_unit = 1;  // map units of one unit of translation residual (the eye height)
+  int max_iterations = 50;
+};
+
+// The optimised nodes; `initial` (at least one) is the starting point. Throws
+// InputError for an edge naming a node that does not exist.
+std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initial, const std::vector<PoseGraphEdge>& edges,
+                                    const PoseGraphOptions& options);
+
+}  // namespace valerant

@@ -1,0 +1,149 @@
+#include "valerant/explore/loop_closure.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "valerant/common/error.h"
+#include "valerant/map/corrected_keyframe.h"
+
+namespace valerant {
+namespace {
+
+bool isIdentity(const Similarity3& s) {
+  const Similarity3 identity;
+  return s.scale == identity.scale && s.rotation.coeffs() == identity.rotation.coeffs() &&
+         s.translation == identity.translation;
+}
+
+}  // namespace
+
+LoopClosure::LoopClosure(const LoopClosureConfig& config, const CameraIntrinsics& intrinsics, bool estimate_scale)
+    : config_(config), intrinsics_(intrinsics), estimate_scale_(estimate_scale) {}
+
+const Similarity3& LoopClosure::frameCorrection(size_t frame) const {
+  static const Similarity3 identity;
+  return frame_nodes_[frame] < 0 ? identity : nodes_[frame_nodes_[frame]].correction;
+}
+
+bool LoopClosure::commit(const BranchResult& result, int step, double eye_height, MapFusion& map,
+                         std::vector<Eigen::Isometry3d>& trajectory) {
+  const std::string what = "loop closure at step " + std::to_string(step);
+  if (trajectory.size() != odometry_.size() + result.poses.size())
+    throw InputError(what, "the trajectory does not end with the committed poses");
+  if (result.keyframes.size() != result.keyframe_floors.size())
+    throw InputError(what, "keyframes and floors differ in length");
+  const size_t first_frame = odometry_.size();
+  const size_t first_keyframe = fused_.size();
+  const size_t first_node = nodes_.size();
+  const Similarity3 before = latestCorrection();
+
+  // Keyframes: nodes, and the map's new ones (those of known floor, in order).
+  std::vector<long> node_at_frame(result.poses.size(), -1);
+  size_t map_index = first_keyframe;
+  for (size_t r = 0; r < result.keyframes.size(); ++r) {
+    const KeyframeCloud& kf = result.keyframes[r];
+    Node node{kf.camera_to_map, before, nullptr};
+    const long local = static_cast<long>(kf.frame) - static_cast<long>(first_frame);
+    if (local >= 0 && local < static_cast<long>(result.rollout.frames.size()))
+      node.features = std::make_shared<const KeyframeFeatures>(
+          describeKeyframe(result.rollout.frames[local], kf, intrinsics_, config_));
+    if (local >= 0 && local < static_cast<long>(node_at_frame.size())) node_at_frame[local] = nodes_.size();
+    if (result.keyframe_floors[r].known) {
+      if (map_index >= map.marker()) throw InputError(what, "the map lacks the committed keyframes");
+      fused_.push_back(map.keyframes()[map_index++]);
+      corrected_.push_back(fused_.back());
+      keyframe_nodes_.push_back(nodes_.size());
+    }
+    nodes_.push_back(std::move(node));
+  }
+  if (map_index != map.marker()) throw InputError(what, "the map holds keyframes the result did not make");
+  // Frames follow the latest keyframe at or before them.
+  long following = frame_nodes_.empty() ? -1 : frame_nodes_.back();
+  for (size_t f = 0; f < result.poses.size(); ++f) {
+    if (node_at_frame[f] >= 0) following = node_at_frame[f];
+    odometry_.push_back(result.poses[f]);
+    frame_nodes_.push_back(following);
+  }
+
+  bool closed = false;
+  for (size_t j = first_node; j < nodes_.size(); ++j) closed |= detect(j, step, eye_height);
+  if (closed) optimise(eye_height);
+  if (closed || !isIdentity(before))
+    rewrite(closed ? 0 : first_keyframe, closed ? 0 : first_frame, map, trajectory);
+  return closed;
+}
+
+bool LoopClosure::detect(size_t j, int step, double eye_height) {
+  const Node& node = nodes_[j];
+  if (!node.features || j < static_cast<size_t>(config_.min_age_keyframes)) return false;
+  const Similarity3 predicted = pose(j);
+  const Eigen::Vector3d axis = predicted.rotation * Eigen::Vector3d::UnitZ();
+  const double cos_limit = std::cos(config_.max_view_angle_deg * M_PI / 180);
+  std::vector<std::pair<double, size_t>> candidates;  // distance, node
+  for (size_t i = 0; i + config_.min_age_keyframes <= j; ++i) {
+    if (!nodes_[i].features || nodes_[i].features->withDepth() == 0) continue;
+    const Similarity3 old = pose(i);
+    const double distance = (old.translation - predicted.translation).norm();
+    if (distance > config_.radius_eye_heights * eye_height) continue;
+    if ((old.rotation * Eigen::Vector3d::UnitZ()).dot(axis) < cos_limit) continue;
+    candidates.emplace_back(distance, i);
+  }
+  std::sort(candidates.begin(), candidates.end());
+  if (candidates.size() > static_cast<size_t>(config_.max_candidates)) candidates.resize(config_.max_candidates);
+  for (const auto& [distance, i] : candidates) {
+    const Similarity3 old = pose(i);
+    LoopClosureRecord record{step, j, i,
+                             verifyLoop(*nodes_[i].features, *node.features, old.inverse() * predicted,
+                                        eye_height / old.scale, estimate_scale_, intrinsics_, config_)};
+    records_.push_back(record);
+    if (record.verification.accepted) {
+      loops_.push_back({i, j, record.verification.relative});
+      return true;
+    }
+  }
+  return false;
+}
+
+void LoopClosure::optimise(double eye_height) {
+  std::vector<Similarity3> initial;
+  std::vector<PoseGraphEdge> edges = loops_;
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    initial.push_back(pose(i));
+    if (i > 0)
+      edges.push_back(
+          {i - 1, i, Similarity3::fromIsometry(nodes_[i - 1].odometry).inverse() * Similarity3::fromIsometry(nodes_[i].odometry)});
+  }
+  const std::vector<Similarity3> optimised =
+      optimisePoseGraph(initial, edges, PoseGraphOptions{estimate_scale_, eye_height, config_.max_iterations});
+  for (size_t i = 0; i < nodes_.size(); ++i)
+    nodes_[i].correction = optimised[i] * Similarity3::fromIsometry(nodes_[i].odometry).inverse();
+}
+
+void LoopClosure::rewrite(size_t first_keyframe, size_t first_frame, MapFusion& map,
+                          std::vector<Eigen::Isometry3d>& trajectory) {
+  for (size_t m = first_keyframe; m < fused_.size(); ++m) {
+    const Similarity3& c = nodes_[keyframe_nodes_[m]].correction;
+    corrected_[m] = isIdentity(c) ? fused_[m] : correctedKeyframe(*fused_[m], c);
+  }
+  map.truncate(first_keyframe);
+  for (size_t m = first_keyframe; m < corrected_.size(); ++m) map.add(corrected_[m]);
+  for (size_t f = first_frame; f < odometry_.size(); ++f) trajectory[f] = frameCorrection(f).applyTo(odometry_[f]);
+}
+
+void LoopClosure::restoreInto(MapFusion& map, std::vector<Eigen::Isometry3d>& trajectory) const {
+  map.truncate(0);
+  for (const auto& kf : corrected_) map.add(kf);
+  trajectory.resize(odometry_.size());
+  for (size_t f = 0; f < odometry_.size(); ++f) trajectory[f] = frameCorrection(f).applyTo(odometry_[f]);
+}
+
+std::vector<Eigen::Isometry3d> LoopClosure::toMap(const std::vector<Eigen::Isometry3d>& slam_poses) const {
+  const Similarity3 c = latestCorrection();
+  if (isIdentity(c)) return slam_poses;
+  std::vector<Eigen::Isometry3d> out;
+  for (const auto& p : slam_poses) out.push_back(c.applyTo(p));
+  return out;
+}
+
+}  // namespace valerant
