@@ -31,6 +31,7 @@ from valerant_learn.losses import decoupled_loss, laplace_nll, training_loss
 from valerant_learn.metrics import frame_calibration, frame_metrics
 from valerant_learn.onnx_export import verify_with_opencv
 from valerant_learn.shards import load_shards, write_shard
+from valerant_learn.weight_average import WeightAverage
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 WIDTH, HEIGHT = 128, 96
@@ -227,6 +228,31 @@ class GlobalContextTest(unittest.TestCase):
         self.assertEqual(tuple(context(features).shape), (1, 8, 3, 4))
 
 
+class WeightAverageTest(unittest.TestCase):
+    def test_hand_worked_average(self):
+        model = torch.nn.Sequential(torch.nn.Linear(1, 1, bias=False), torch.nn.BatchNorm1d(1))
+        with torch.no_grad():
+            model[0].weight.fill_(0.0)
+        average = WeightAverage(model, 0.9)
+        with torch.no_grad():
+            model[0].weight.fill_(1.0)
+        model[1].num_batches_tracked.fill_(7)
+        average.update(model)    # step 0: decay min(0.9, 1/10) = 0.1: 0.1 * 0 + 0.9 * 1 = 0.9
+        self.assertAlmostEqual(float(average.model[0].weight), 0.9, places=6)
+        self.assertEqual(int(average.model[1].num_batches_tracked), 7)
+        average.update(model)    # step 1: decay min(0.9, 2/11) = 0.181818: 0.181818 * 0.9 + 0.818182 = 0.981818
+        self.assertAlmostEqual(float(average.model[0].weight), 0.981818, places=5)
+        for _ in range(200):     # the decay reaches 0.9 and the average the weight
+            average.update(model)
+        self.assertAlmostEqual(float(average.model[0].weight), 1.0, places=5)
+        self.assertEqual(float(model[0].weight), 1.0)  # the trained model is untouched
+
+    def test_bad_decay(self):
+        with self.assertRaises(ValueError) as caught:
+            WeightAverage(torch.nn.Linear(1, 1), 1.0)
+        self.assertIn("--ema must be between 0 and 1, got 1.0", str(caught.exception))
+
+
 class FloorPriorTest(unittest.TestCase):
     def test_hand_worked_rows(self):
         prior = torch.exp(floor_log_depth(HEIGHT, WIDTH, CAMERA, 80.0))
@@ -348,8 +374,9 @@ class TrainDepthTest(unittest.TestCase):
         self.assertEqual((metrics["picked_by"], metrics["loss"], metrics["select"]), ("val", "laplace", None))
 
     def test_end_to_end_decoupled_with_context_and_selection(self):
-        metrics = self.train_and_check("run_v6", ["--loss", "decoupled", "--global-context",
+        metrics = self.train_and_check("run_v6", ["--loss", "decoupled", "--global-context", "--ema", "0.9",
                                                   "--select-maps", SELECT_MAP], [SELECT_SHARD])
+        self.assertEqual(metrics["ema"], 0.9)
         self.assertEqual((metrics["picked_by"], metrics["loss"], metrics["global_context"]),
                          ("select", "decoupled", True))
         self.assertEqual((metrics["select_frames"], metrics["select_maps"]), (6, [SELECT_MAP]))

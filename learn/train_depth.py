@@ -33,6 +33,7 @@ from valerant_learn.metrics import METRIC_MAX_M, METRIC_MIN_M, average, frame_ca
 from valerant_learn.onnx_export import FORMAT_VERSION, export_onnx
 from valerant_learn.plots import plot_curves, plot_samples
 from valerant_learn.shards import check_same_camera, load_shards
+from valerant_learn.weight_average import WeightAverage
 
 WEIGHT_DECAY = 0.01
 WARMUP_FRACTION = 0.03
@@ -72,6 +73,9 @@ def parse_args(argv):
     parser.add_argument("--global-context", action="store_true",
                         help="add a summary of the whole frame to the encoder's output "
                              "(valerant_learn/depth_net.py, GlobalContext)")
+    parser.add_argument("--ema", type=float, metavar="DECAY",
+                        help="validate and keep an exponential moving average of the weights "
+                             "(valerant_learn/weight_average.py), e.g. 0.999")
     parser.add_argument("--floor-prior", action="store_true",
                         help="predict ln depth relative to the floor-plane depth of each image row "
                              "(valerant_learn/floor_prior.py) instead of outright")
@@ -84,6 +88,8 @@ def parse_args(argv):
         parser.error("--minutes must be positive")
     if not args.lr > 0:
         parser.error("--lr must be positive")
+    if args.ema is not None and not 0 < args.ema < 1:
+        parser.error("--ema must be between 0 and 1, got %r" % args.ema)
     if args.select_maps is not None:
         args.select_maps = [name for name in args.select_maps.split(",") if name]
         if not args.select_maps:
@@ -220,8 +226,11 @@ def evaluate(model, frames, indices):
 def train(model, train_frames, val_frames, select_frames, args, device, out_dir):
     """The training loop. Returns (log rows, best step, steps, seconds) and leaves
     the best weights (by AbsRel on select_frames, or on val_frames where that is
-    None) loaded in model and saved to depth_prior.pt."""
+    None; with --ema, of the averaged weights) loaded in model and saved to
+    depth_prior.pt."""
     loss_function = training_loss(args.loss)
+    weight_average = None if args.ema is None else WeightAverage(model, args.ema)
+    judged = model if weight_average is None else weight_average.model
     decay = [p for p in model.parameters() if p.ndim > 1]
     no_decay = [p for p in model.parameters() if p.ndim <= 1]  # BatchNorm and biases
     optimizer = torch.optim.AdamW([{"params": decay, "weight_decay": WEIGHT_DECAY},
@@ -239,13 +248,13 @@ def train(model, train_frames, val_frames, select_frames, args, device, out_dir)
 
         def validate():
             nonlocal loss_sum, loss_steps
-            figures = average(evaluate(model, val_frames, val_indices))
+            figures = average(evaluate(judged, val_frames, val_indices))
             row = {"step": step, "seconds": round(time.time() - start, 2),
                    "train_loss": float(loss_sum) / loss_steps,
                    "val_abs_rel": figures["abs_rel"], "val_delta1": figures["delta1"],
                    "select_abs_rel": "", "select_delta1": ""}
             if select_frames is not None:
-                selection = average(evaluate(model, select_frames, select_indices))
+                selection = average(evaluate(judged, select_frames, select_indices))
                 row.update(select_abs_rel=selection["abs_rel"], select_delta1=selection["delta1"])
             else:
                 selection = figures
@@ -256,7 +265,7 @@ def train(model, train_frames, val_frames, select_frames, args, device, out_dir)
             improved = selection["abs_rel"] < best["abs_rel"]
             if improved:
                 best.update(abs_rel=selection["abs_rel"], step=step,
-                            state={k: v.detach().clone() for k, v in model.state_dict().items()})
+                            state={k: v.detach().clone() for k, v in judged.state_dict().items()})
                 torch.save({"state_dict": {k: v.cpu() for k, v in best["state"].items()},
                             "height": model.height, "width": model.width, "step": step,
                             "floor_prior": floor_prior_camera(model),
@@ -285,6 +294,8 @@ def train(model, train_frames, val_frames, select_frames, args, device, out_dir)
             loss.backward()
             torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
             optimizer.step()
+            if weight_average is not None:
+                weight_average.update(model)
             loss_sum += loss.detach()
             loss_steps += 1
             step += 1
@@ -378,6 +389,7 @@ def main(argv=None):
         "picked_by": "select" if select_frames is not None else "val",
         "loss": args.loss,
         "global_context": args.global_context,
+        "ema": args.ema,
         "sky_depth_m": SKY_DEPTH_M,
         "metric_depth_range_m": [METRIC_MIN_M, METRIC_MAX_M],
         "floor_prior": floor_prior_camera(model),
