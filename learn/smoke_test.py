@@ -23,6 +23,7 @@ import cv2
 import numpy as np
 import torch
 
+import error_by_depth
 import train_depth
 from valerant_learn.depth_net import DepthNet, GlobalContext
 from valerant_learn.floor_prior import floor_log_depth
@@ -226,6 +227,29 @@ class GlobalContextTest(unittest.TestCase):
             difference = (context(features) - context(changed))[0, :, 0, 0].abs().max()
         self.assertGreater(float(difference), 1e-3)
         self.assertEqual(tuple(context(features).shape), (1, 8, 3, 4))
+
+
+class ErrorByDepthTest(unittest.TestCase):
+    def test_hand_worked_groups(self):
+        # floor plane at 2 m under every pixel but the last (at the horizon: 80 m, no floor)
+        floor_depth = np.array([[[2.0, 2.0, 2.0, 2.0, 2.0, 80.0]]])
+        depth = np.array([[[2.0, 1.0, 5.0, np.nan, 30.0, 80.0]]])
+        groups = error_by_depth.pixel_groups(depth, floor_depth)
+        self.assertEqual(groups.tolist(), [[[0, 1, 2, -1, 4, 4]]])
+        pred = np.array([[[2.0, 3.0, 5.0, 1.0, 15.0, 80.0]]])
+        result = error_by_depth.summarize_groups(pred, np.zeros_like(pred), depth, groups)
+        # AbsRel: 0, |3-1|/1 = 2, 0, (sky), |15-30|/30 = 0.5, 0: sum 2.5 over 5 pixels
+        self.assertAlmostEqual(result["abs_rel"], 0.5)
+        near = result["groups"]["other 0-3 m"]
+        self.assertEqual((near["pixel_share"], near["abs_rel"], near["over_twice_too_far"]), (0.2, 2.0, 1.0))
+        self.assertAlmostEqual(near["abs_rel_share"], 0.8)
+        self.assertAlmostEqual(result["groups"]["other 20-inf m"]["abs_rel"], 0.25)
+        self.assertIsNone(result["groups"]["other 8-20 m"])
+
+    def test_missing_shard(self):
+        with self.assertRaises(SystemExit) as caught:
+            error_by_depth.main(["model.onnx", os.path.join(WORK, "absent.zip")])
+        self.assertIn("absent.zip: no such shard", caught.exception.code)
 
 
 class WeightAverageTest(unittest.TestCase):
