@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
-# The depth prior's training run on the GPU host (the `device` tool). One call carries
+# The depth prior's training runs on the GPU host (the `device` tool). One call carries
 # at most 64 MiB and runs at most 10 minutes, so the shards travel in parts and the
 # training outlives a call: each call stages the shards it carries under $VDATA
-# (outside the working tree; kept while the machine stays warm), `start` launches the
-# training in the background and returns, `wait` calls keep the machine warm while it
-# runs, and `collect` waits for the end and copies the results to $OUT/run.
+# (outside the working tree; kept while the machine stays warm), `start` launches a
+# named run in the background and returns (several runs may share the GPU, each with
+# its own options: an ablation trained side by side for the same minutes), `wait`
+# calls keep the machine warm while they run, and `collect` waits for their end and
+# packs each run's files into $OUT/NAME.tgz (the device tool returns at most 8 files).
 #   learn/gpu_train.sh stage             copy the carried $DATA/train_*/*.zip and $DATA/eval/*.zip to $VDATA
-#   learn/gpu_train.sh start MINUTES [OPTION...]
-#                                        stage, then train for MINUTES (in the background);
-#                                        OPTIONs go to train_depth.py (e.g. --floor-prior)
-#   learn/gpu_train.sh wait SECONDS      wait that long (or to the end), print the log's tail
-#   learn/gpu_train.sh collect           wait for the training (at most 540 s), copy its files to $OUT/run
+#   learn/gpu_train.sh start NAME MINUTES [OPTION...]
+#                                        stage, then train run NAME for MINUTES (in the background)
+#                                        into $RUNS/NAME; OPTIONs go to train_depth.py after the
+#                                        defaults below, so they override them (e.g. --loss decoupled)
+#   learn/gpu_train.sh wait SECONDS      wait that long (or to the end of every run), print the logs' tails
+#   learn/gpu_train.sh collect           wait for every run (at most 540 s), pack each into $OUT/NAME.tgz
 # Make the calls back to back and keep each but the last short (`wait 60`): the machine
 # goes back when idle for 30 s, and once that happened after a 574 s call, taking the
 # training with it. Call `collect` when the training has less than 540 s to go.
@@ -20,13 +23,21 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VDATA=${VDATA:-/root/vdata}
-RUN=${RUN:-/root/depth_run}
+RUNS=${RUNS:-/root/depth_runs}
 mode=${1:-stage}
 case $mode in stage | start | wait | collect) ;; *) echo "gpu_train.sh: unknown mode '$mode' (stage, start, wait or collect)" >&2; exit 2 ;; esac
+runs() { ls -d "$RUNS"/*/ 2> /dev/null | xargs -r -n1 basename; }
+running() {  # a run without its .done file whose training process lives
+  local name
+  for name in $(runs); do
+    [ -f "$RUNS/$name.done" ] || ! pgrep -f "out $RUNS/$name " > /dev/null || return 0
+  done
+  return 1
+}
 wait_for_training() {  # at most $1 seconds
-  local deadline=$((SECONDS + $1))
-  while [ ! -f "$RUN.done" ] && [ $SECONDS -lt $deadline ] && pgrep -f learn/train_depth.py > /dev/null; do sleep 5; done
-  tail -n 30 "$RUN.log"
+  local deadline=$((SECONDS + $1)) name
+  while running && [ $SECONDS -lt $deadline ]; do sleep 5; done
+  for name in $(runs); do echo "== $name"; tail -n 4 "$RUNS/$name.log"; done
 }
 if [ "$mode" = wait ]; then
   [[ ${2:-} =~ ^[0-9]+$ ]] || { echo "gpu_train.sh wait: SECONDS must be a whole number, got '${2:-}'" >&2; exit 2; }
@@ -35,11 +46,15 @@ if [ "$mode" = wait ]; then
 fi
 if [ "$mode" = collect ]; then
   wait_for_training 540
-  [ -f "$RUN.done" ] || { echo "training still running"; exit 3; }
-  mkdir -p "$OUT/run"
-  cp "$RUN"/log.csv "$RUN"/metrics.json "$RUN"/curves.png "$RUN"/samples.png "$RUN"/depth_prior.onnx "$OUT/run/"
-  cp "$RUN.log" "$OUT/train.log"
-  exit "$(cat "$RUN.done")"
+  ! running || { echo "training still running"; exit 3; }
+  status=0
+  for name in $(runs); do
+    [ -f "$RUNS/$name.done" ] || { echo "$name: no exit status (the process died)"; status=1; continue; }
+    [ "$(cat "$RUNS/$name.done")" = 0 ] || { echo "$name: exit status $(cat "$RUNS/$name.done")"; status=1; }
+    cp "$RUNS/$name.log" "$RUNS/$name/train.log"
+    tar -czf "$OUT/$name.tgz" -C "$RUNS" --exclude depth_prior.pt "$name"
+  done
+  exit $status
 fi
 mkdir -p "$VDATA/train" "$VDATA/eval"
 for root in ${DATA:-data}; do
@@ -48,12 +63,16 @@ for root in ${DATA:-data}; do
 done
 echo "staged: $(ls "$VDATA/train" | wc -l) training shards, $(ls "$VDATA/eval" | wc -l) evaluation shards"
 du -sh "$VDATA/train" "$VDATA/eval"
-python3 -c 'import torch, cv2, onnx; print("torch", torch.__version__, "cuda", torch.cuda.is_available(), torch.cuda.get_device_name(0) if torch.cuda.is_available() else "-", "cv2", cv2.__version__, "onnx", onnx.__version__)'
 [ "$mode" = start ] || exit 0
-rm -rf "$RUN" "$RUN.done"
+name=${2:-}
+[[ $name =~ ^[A-Za-z0-9_-]+$ ]] || { echo "gpu_train.sh start: NAME must be letters, digits, _ or -, got '$name'" >&2; exit 2; }
+[[ ${3:-} =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "gpu_train.sh start: MINUTES must be a number, got '${3:-}'" >&2; exit 2; }
+python3 -c 'import torch, cv2, onnx; print("torch", torch.__version__, "cuda", torch.cuda.is_available(), torch.cuda.get_device_name(0) if torch.cuda.is_available() else "-", "cv2", cv2.__version__, "onnx", onnx.__version__)'
+rm -rf "${RUNS:?}/$name" "$RUNS/$name.done"
+mkdir -p "$RUNS/$name"
 # setsid: the training must outlive this call's process group.
 setsid bash -c 'PYTHONUNBUFFERED=1 python3 learn/train_depth.py --train "$2/train/*.zip" --val "$2/eval/*.zip" --out "$1" \
    --minutes "$0" --batch 256 --workers 16 --seed 0 --device cuda "${@:3}" > "$1.log" 2>&1; echo $? > "$1.done"' \
-  "${2:-12}" "$RUN" "$VDATA" "${@:3}" < /dev/null &
+  "$3" "$RUNS/$name" "$VDATA" "${@:4}" < /dev/null &
 sleep 5
-wait_for_training 20
+tail -n 5 "$RUNS/$name.log"

@@ -23,14 +23,16 @@ import cv2
 import numpy as np
 import torch
 
+import error_by_depth
 import train_depth
-from valerant_learn.depth_net import DepthNet
+from valerant_learn.depth_net import DepthNet, GlobalContext
 from valerant_learn.floor_prior import floor_log_depth
 from valerant_learn.log16 import decode_log16, encode_log16
-from valerant_learn.losses import laplace_nll
-from valerant_learn.metrics import frame_metrics
+from valerant_learn.losses import decoupled_loss, laplace_nll, training_loss
+from valerant_learn.metrics import frame_calibration, frame_metrics
 from valerant_learn.onnx_export import verify_with_opencv
 from valerant_learn.shards import load_shards, write_shard
+from valerant_learn.weight_average import WeightAverage
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 WIDTH, HEIGHT = 128, 96
@@ -38,7 +40,7 @@ EYE_HEIGHT_M = 1.5625
 # 90 degrees horizontal field of view, square pixels, centred principal point.
 CAMERA = {"fx": 64.0, "fy": 64.0, "cx": 63.5, "cy": 47.5, "depth_min_m": 0.05, "depth_max_m": 200.0,
           "seed": 0, "units_per_metre": 32, "eye_height_m": EYE_HEIGHT_M}
-TRAIN_MAP, VAL_MAP = "synth_train", "synth_val"
+TRAIN_MAP, VAL_MAP, SELECT_MAP = "synth_train", "synth_val", "synth_select"
 
 
 def synthetic_frame(rng):
@@ -91,12 +93,14 @@ def rewrite_zip(source, target, changes):
 
 
 def setUpModule():
-    global WORK, TRAIN_SHARD, VAL_SHARD
+    global WORK, TRAIN_SHARD, VAL_SHARD, SELECT_SHARD
     WORK = tempfile.mkdtemp(prefix="valerant_learn_smoke_")
     TRAIN_SHARD = os.path.join(WORK, "train.zip")
     VAL_SHARD = os.path.join(WORK, "val.zip")
+    SELECT_SHARD = os.path.join(WORK, "select.zip")
     synthetic_shard(TRAIN_SHARD, TRAIN_MAP, 24, seed=1)
     synthetic_shard(VAL_SHARD, VAL_MAP, 8, seed=2)
+    synthetic_shard(SELECT_SHARD, SELECT_MAP, 6, seed=4)
 
 
 def tearDownModule():
@@ -137,6 +141,15 @@ class MetricsTest(unittest.TestCase):
         self.assertEqual(figures["pixels"].tolist(), [1.0, 0.0])
         self.assertTrue(math.isnan(figures["abs_rel"][1]))
 
+    def test_hand_worked_calibration(self):
+        # Both pixels predict 2 m; truths 1 m and 4 m: |e| = ln 2 = 0.693147 at both.
+        # b = 0.5: |e|/b = 1.386294, not within; b = 4: 0.173287, within; sky left out.
+        log_depth = torch.full((1, 1, 3), math.log(2.0))
+        log_scale = torch.tensor([[[math.log(0.5), math.log(4.0), 0.0]]])
+        figures = frame_calibration(log_depth, log_scale, torch.tensor([[[1.0, 4.0, float("nan")]]]))
+        self.assertAlmostEqual(figures["scaled_error"][0], (1.386294 + 0.173287) / 2, places=5)
+        self.assertAlmostEqual(figures["within_scale"][0], 0.5)
+
 
 class LossTest(unittest.TestCase):
     def test_hand_worked_laplace_nll(self):
@@ -147,6 +160,42 @@ class LossTest(unittest.TestCase):
         # pixel 1: |ln 2 - ln 1| / 1 + 0 = 0.693147
         # pixel 2: |ln 2 - ln 80| / 2 + ln 2 = 3.688879 / 2 + 0.693147 = 2.537587
         self.assertAlmostEqual(float(laplace_nll(output, depth)), (0.693147 + 2.537587) / 2, places=5)
+
+    def test_hand_worked_decoupled_loss(self):
+        output = torch.zeros(1, 2, 1, 2)
+        output[0, 0] = math.log(2.0)          # predicts 2 m everywhere
+        output[0, 1, 0, 1] = math.log(2.0)    # b = 2 at the second pixel
+        depth = torch.tensor([[[1.0, float("nan")]]])  # 1 m, then sky (80 m)
+        # pixel 1: e = ln 2: depth |e| + |2/1 - 1| = 0.693147 + 1 = 1.693147; scale 0.693147 / 1 + 0
+        # pixel 2 (sky, no AbsRel): e = ln 2 - ln 80 = -3.688879: depth 3.688879;
+        #   scale 3.688879 / 2 + ln 2 = 2.537587
+        expected = (1.693147 + 0.693147 + 3.688879 + 2.537587) / 2
+        self.assertAlmostEqual(float(decoupled_loss(output, depth)), expected, places=5)
+
+    def test_decoupled_depth_gradient_ignores_the_scale(self):
+        """The depth's gradient is the same whatever ln b: no pixel can be given up."""
+        depth = torch.tensor([[[1.0, 3.0]]])
+        gradients = []
+        for log_scale in (-6.0, 3.0):
+            output = torch.full((1, 2, 1, 2), log_scale)
+            output[0, 0] = torch.tensor([math.log(2.0), math.log(1.5)])
+            output.requires_grad_(True)
+            decoupled_loss(output, depth).backward()
+            gradients.append(output.grad[0, 0].clone())
+        # d/de (|e| + |exp(e) - 1|) / 2 pixels: (1 + 2) / 2 = 1.5 too far; (-1 - 0.5) / 2 = -0.75 too near.
+        self.assertTrue(torch.allclose(gradients[0], torch.tensor([[1.5, -0.75]])), gradients[0])
+        self.assertTrue(torch.equal(gradients[0], gradients[1]))
+
+    def test_abs_rel_term_capped(self):
+        # e = 5 (148 times too far): the AbsRel term stops at e = 3: exp(3) - 1 = 19.085537.
+        output = torch.zeros(1, 2, 1, 1)
+        output[0, 0] = 5.0
+        self.assertAlmostEqual(float(decoupled_loss(output, torch.ones(1, 1, 1))), 5 + 19.085537 + 5, places=4)
+
+    def test_unknown_loss(self):
+        with self.assertRaises(ValueError) as caught:
+            training_loss("l2")
+        self.assertIn("unknown loss 'l2'", str(caught.exception))
 
     def test_floor_scene_loss_decreases(self):
         torch.manual_seed(0)
@@ -163,6 +212,69 @@ class LossTest(unittest.TestCase):
             optimizer.step()
             losses.append(float(loss))
         self.assertLess(losses[-1], 0.8 * losses[0], losses)
+
+
+class GlobalContextTest(unittest.TestCase):
+    def test_every_position_sees_the_whole_frame(self):
+        """A change at the far corner of the stride-32 grid reaches the opposite
+        corner, which a 1x1 layer alone could not do."""
+        torch.manual_seed(0)
+        context = GlobalContext(8, 3, 4).eval()
+        features = torch.rand(1, 8, 3, 4)
+        changed = features.clone()
+        changed[0, :, 2, 3] += 5
+        with torch.no_grad():
+            difference = (context(features) - context(changed))[0, :, 0, 0].abs().max()
+        self.assertGreater(float(difference), 1e-3)
+        self.assertEqual(tuple(context(features).shape), (1, 8, 3, 4))
+
+
+class ErrorByDepthTest(unittest.TestCase):
+    def test_hand_worked_groups(self):
+        # floor plane at 2 m under every pixel but the last (at the horizon: 80 m, no floor)
+        floor_depth = np.array([[[2.0, 2.0, 2.0, 2.0, 2.0, 80.0]]])
+        depth = np.array([[[2.0, 1.0, 5.0, np.nan, 30.0, 80.0]]])
+        groups = error_by_depth.pixel_groups(depth, floor_depth)
+        self.assertEqual(groups.tolist(), [[[0, 1, 2, -1, 4, 4]]])
+        pred = np.array([[[2.0, 3.0, 5.0, 1.0, 15.0, 80.0]]])
+        result = error_by_depth.summarize_groups(pred, np.zeros_like(pred), depth, groups)
+        # AbsRel: 0, |3-1|/1 = 2, 0, (sky), |15-30|/30 = 0.5, 0: sum 2.5 over 5 pixels
+        self.assertAlmostEqual(result["abs_rel"], 0.5)
+        near = result["groups"]["other 0-3 m"]
+        self.assertEqual((near["pixel_share"], near["abs_rel"], near["over_twice_too_far"]), (0.2, 2.0, 1.0))
+        self.assertAlmostEqual(near["abs_rel_share"], 0.8)
+        self.assertAlmostEqual(result["groups"]["other 20-inf m"]["abs_rel"], 0.25)
+        self.assertIsNone(result["groups"]["other 8-20 m"])
+
+    def test_missing_shard(self):
+        with self.assertRaises(SystemExit) as caught:
+            error_by_depth.main(["model.onnx", os.path.join(WORK, "absent.zip")])
+        self.assertIn("absent.zip: no such shard", caught.exception.code)
+
+
+class WeightAverageTest(unittest.TestCase):
+    def test_hand_worked_average(self):
+        model = torch.nn.Sequential(torch.nn.Linear(1, 1, bias=False), torch.nn.BatchNorm1d(1))
+        with torch.no_grad():
+            model[0].weight.fill_(0.0)
+        average = WeightAverage(model, 0.9)
+        with torch.no_grad():
+            model[0].weight.fill_(1.0)
+        model[1].num_batches_tracked.fill_(7)
+        average.update(model)    # step 0: decay min(0.9, 1/10) = 0.1: 0.1 * 0 + 0.9 * 1 = 0.9
+        self.assertAlmostEqual(float(average.model[0].weight), 0.9, places=6)
+        self.assertEqual(int(average.model[1].num_batches_tracked), 7)
+        average.update(model)    # step 1: decay min(0.9, 2/11) = 0.181818: 0.181818 * 0.9 + 0.818182 = 0.981818
+        self.assertAlmostEqual(float(average.model[0].weight), 0.981818, places=5)
+        for _ in range(200):     # the decay reaches 0.9 and the average the weight
+            average.update(model)
+        self.assertAlmostEqual(float(average.model[0].weight), 1.0, places=5)
+        self.assertEqual(float(model[0].weight), 1.0)  # the trained model is untouched
+
+    def test_bad_decay(self):
+        with self.assertRaises(ValueError) as caught:
+            WeightAverage(torch.nn.Linear(1, 1), 1.0)
+        self.assertIn("--ema must be between 0 and 1, got 1.0", str(caught.exception))
 
 
 class FloorPriorTest(unittest.TestCase):
@@ -273,19 +385,38 @@ class TrainDepthTest(unittest.TestCase):
         message = self.run_main_expecting_error(["--train", TRAIN_SHARD, "--val", VAL_SHARD, TRAIN_SHARD])
         self.assertIn("val maps overlap train maps: " + TRAIN_MAP, message)
 
+    def test_rejects_select_maps_not_in_train(self):
+        message = self.run_main_expecting_error(["--train", TRAIN_SHARD, "--val", VAL_SHARD,
+                                                 "--select-maps", "synth_nowhere"])
+        self.assertIn("--select-maps synth_nowhere: not in the training shards", message)
+        message = self.run_main_expecting_error(["--train", TRAIN_SHARD, "--val", VAL_SHARD,
+                                                 "--select-maps", TRAIN_MAP])
+        self.assertIn("nothing is left to train on", message)
+
     def test_end_to_end_on_cpu(self):
-        self.train_and_check("run", [])
+        metrics = self.train_and_check("run", [])
+        self.assertEqual((metrics["picked_by"], metrics["loss"], metrics["select"]), ("val", "laplace", None))
+
+    def test_end_to_end_decoupled_with_context_and_selection(self):
+        metrics = self.train_and_check("run_v6", ["--loss", "decoupled", "--global-context", "--ema", "0.9",
+                                                  "--select-maps", SELECT_MAP], [SELECT_SHARD])
+        self.assertEqual(metrics["ema"], 0.9)
+        self.assertEqual((metrics["picked_by"], metrics["loss"], metrics["global_context"]),
+                         ("select", "decoupled", True))
+        self.assertEqual((metrics["select_frames"], metrics["select_maps"]), (6, [SELECT_MAP]))
+        self.assertEqual(list(metrics["select"]["per_map"]), [SELECT_MAP])
+        self.assertIn("scaled_error", metrics["val"]["all"])
 
     def test_end_to_end_floor_relative(self):
         metrics = self.train_and_check("run_floor", ["--floor-prior"])
         self.assertEqual(metrics["floor_prior"], {key: CAMERA[key] for key in ("fy", "cy", "eye_height_m")})
 
-    def train_and_check(self, name, options):
-        """Trains 5 steps on the CPU with options; checks the outputs and the ONNX
-        against torch; returns metrics.json."""
+    def train_and_check(self, name, options, extra_train=()):
+        """Trains 5 steps on the CPU with options (on TRAIN_SHARD and extra_train);
+        checks the outputs and the ONNX against torch; returns metrics.json."""
         out = os.path.join(WORK, name)
         env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")
-        command = [sys.executable, os.path.join(HERE, "train_depth.py"), "--train", TRAIN_SHARD,
+        command = [sys.executable, os.path.join(HERE, "train_depth.py"), "--train", TRAIN_SHARD, *extra_train,
                    "--val", VAL_SHARD, "--out", out, "--steps", "5", "--batch", "4", "--eval-every", "3",
                    "--device", "cpu", "--workers", "1"] + options
         run = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -307,7 +438,8 @@ class TrainDepthTest(unittest.TestCase):
             self.assertEqual([line.split(",")[0] for line in handle.read().split()], ["step", "3", "5"])
         # The exported file must run in cv2.dnn and agree with the saved torch weights.
         checkpoint = torch.load(os.path.join(out, "depth_prior.pt"))
-        model = DepthNet(checkpoint["height"], checkpoint["width"], checkpoint["floor_prior"])
+        model = DepthNet(checkpoint["height"], checkpoint["width"], checkpoint["floor_prior"],
+                         checkpoint["global_context"])
         model.load_state_dict(checkpoint["state_dict"])
         rgb = train_depth.as_input(torch.from_numpy(load_shards([VAL_SHARD])["rgb"][:3])).contiguous().numpy()
         report = verify_with_opencv(os.path.join(out, "depth_prior.onnx"), model, rgb)

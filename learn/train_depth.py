@@ -4,7 +4,11 @@ OpenCV's DNN module. Runs the same on CPU and CUDA (bf16 autocast there).
 
   train_depth.py --train 'data/train/*.zip' --val 'data/val/*.zip' --out runs/depth --minutes 20
 
-Writes to --out: log.csv, depth_prior.pt (best weights by val AbsRel),
+The weights kept are those of the best validation by AbsRel: on --select-maps (training
+maps held out of training) where given, else on --val, which is then no longer an
+unbiased measure.
+
+Writes to --out: log.csv, depth_prior.pt (the kept weights),
 depth_prior.onnx (verified in cv2.dnn), metrics.json, curves.png, samples.png."""
 import argparse
 import csv
@@ -24,22 +28,23 @@ import torch
 
 from valerant_learn.augment import augment
 from valerant_learn.depth_net import DepthNet, count_macs, count_parameters
-from valerant_learn.losses import SKY_DEPTH_M, laplace_nll
-from valerant_learn.metrics import METRIC_MAX_M, METRIC_MIN_M, average, frame_metrics, summarize
+from valerant_learn.losses import LOSSES, SKY_DEPTH_M, training_loss
+from valerant_learn.metrics import METRIC_MAX_M, METRIC_MIN_M, average, frame_calibration, frame_metrics, summarize
 from valerant_learn.onnx_export import FORMAT_VERSION, export_onnx
 from valerant_learn.plots import plot_curves, plot_samples
 from valerant_learn.shards import check_same_camera, load_shards
+from valerant_learn.weight_average import WeightAverage
 
 WEIGHT_DECAY = 0.01
 WARMUP_FRACTION = 0.03
 FINAL_LR_FRACTION = 0.01
-# The NLL's exp(-s) factor can make rare, very large gradients.
+# The NLL's exp(-s) factor (and the AbsRel term's exp(e)) can make rare, very large gradients.
 GRAD_CLIP_NORM = 1.0
 EVAL_BATCH = 256
 TRAIN_EVAL_FRAMES = 1000
 SAMPLE_FRAMES = 4
 VERIFY_FRAMES = 8
-LOG_COLUMNS = ["step", "seconds", "train_loss", "val_abs_rel", "val_delta1"]
+LOG_COLUMNS = ["step", "seconds", "train_loss", "val_abs_rel", "val_delta1", "select_abs_rel", "select_delta1"]
 
 
 def parse_args(argv):
@@ -59,6 +64,18 @@ def parse_args(argv):
     parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
     parser.add_argument("--workers", type=int, default=min(8, os.cpu_count() or 1),
                         help="threads decoding the shards' images")
+    parser.add_argument("--select-maps", metavar="MAP,...",
+                        help="training maps held out of training to pick the kept weights by "
+                             "(without it --val picks them)")
+    parser.add_argument("--loss", choices=LOSSES, default="laplace",
+                        help="laplace: the Laplace NLL of ln depth; decoupled: |ln error| + AbsRel for the "
+                             "depth, the NLL on the detached error for ln b (valerant_learn/losses.py)")
+    parser.add_argument("--global-context", action="store_true",
+                        help="add a summary of the whole frame to the encoder's output "
+                             "(valerant_learn/depth_net.py, GlobalContext)")
+    parser.add_argument("--ema", type=float, metavar="DECAY",
+                        help="validate and keep an exponential moving average of the weights "
+                             "(valerant_learn/weight_average.py), e.g. 0.999")
     parser.add_argument("--floor-prior", action="store_true",
                         help="predict ln depth relative to the floor-plane depth of each image row "
                              "(valerant_learn/floor_prior.py) instead of outright")
@@ -71,6 +88,12 @@ def parse_args(argv):
         parser.error("--minutes must be positive")
     if not args.lr > 0:
         parser.error("--lr must be positive")
+    if args.ema is not None and not 0 < args.ema < 1:
+        parser.error("--ema must be between 0 and 1, got %r" % args.ema)
+    if args.select_maps is not None:
+        args.select_maps = [name for name in args.select_maps.split(",") if name]
+        if not args.select_maps:
+            parser.error("--select-maps names no map")
     return args
 
 
@@ -84,11 +107,36 @@ def expand_globs(patterns, option):
     return paths
 
 
+def take_frames(data, keep):
+    """The frames of a load_shards() result where keep (bool [N]) holds, its
+    meta's maps narrowed to theirs."""
+    part = {name: value[keep] for name, value in data.items() if name != "meta"}
+    part["meta"] = dict(data["meta"], maps=sorted(set(part["map"].tolist())))
+    return part
+
+
+def split_selection(train, select_maps):
+    """(training frames, selection frames): the frames of select_maps go to the
+    selection set. Raises ValueError naming a map the training shards lack, or when
+    nothing would be left to train on."""
+    missing = [name for name in select_maps if name not in train["meta"]["maps"]]
+    if missing:
+        raise ValueError("--select-maps %s: not in the training shards" % ", ".join(missing))
+    chosen = np.isin(train["map"], select_maps)
+    if chosen.all():
+        raise ValueError("--select-maps takes every training map: nothing is left to train on")
+    return take_frames(train, ~chosen), take_frames(train, chosen)
+
+
 def load_split(args):
-    """Loads --train and --val; raises ValueError on anything that makes the
-    split unusable."""
+    """Loads --train and --val, and splits --select-maps off the training frames
+    (None without them); raises ValueError on anything that makes the split
+    unusable."""
     train = load_shards(expand_globs(args.train, "--train"), args.workers)
     val = load_shards(expand_globs(args.val, "--val"), args.workers)
+    select = None
+    if args.select_maps is not None:
+        train, select = split_selection(train, args.select_maps)
     shared = sorted(set(train["meta"]["maps"]) & set(val["meta"]["maps"]))
     if shared:
         raise ValueError("val maps overlap train maps: %s (val must measure maps the net never saw)"
@@ -97,7 +145,7 @@ def load_split(args):
     for option, data in (("--train", train), ("--val", val)):
         if not np.isfinite(data["depth"]).any():
             raise ValueError("%s shards hold no depth at all (every pixel is sky)" % option)
-    return train, val
+    return train, val, select
 
 
 def pick_device(choice):
@@ -163,24 +211,33 @@ def predict(model, rgb):
 
 
 def evaluate(model, frames, indices):
-    """Per-frame metrics (see metrics.frame_metrics) of the frames indices."""
+    """Per-frame metrics (metrics.frame_metrics and frame_calibration) of the
+    frames indices."""
     parts = []
     for start in range(0, len(indices), EVAL_BATCH):
         chunk = indices[start:start + EVAL_BATCH]
-        log_depth, _ = predict(model, frames.rgb[chunk])
-        parts.append(frame_metrics(torch.exp(log_depth), frames.depth[chunk]))
+        log_depth, log_scale = predict(model, frames.rgb[chunk])
+        part = frame_metrics(torch.exp(log_depth), frames.depth[chunk])
+        part.update(frame_calibration(log_depth, log_scale, frames.depth[chunk]))
+        parts.append(part)
     return {name: np.concatenate([part[name] for part in parts]) for name in parts[0]}
 
 
-def train(model, train_frames, val_frames, args, device, out_dir):
+def train(model, train_frames, val_frames, select_frames, args, device, out_dir):
     """The training loop. Returns (log rows, best step, steps, seconds) and leaves
-    the best weights (by val AbsRel) loaded in model and saved to depth_prior.pt."""
+    the best weights (by AbsRel on select_frames, or on val_frames where that is
+    None; with --ema, of the averaged weights) loaded in model and saved to
+    depth_prior.pt."""
+    loss_function = training_loss(args.loss)
+    weight_average = None if args.ema is None else WeightAverage(model, args.ema)
+    judged = model if weight_average is None else weight_average.model
     decay = [p for p in model.parameters() if p.ndim > 1]
     no_decay = [p for p in model.parameters() if p.ndim <= 1]  # BatchNorm and biases
     optimizer = torch.optim.AdamW([{"params": decay, "weight_decay": WEIGHT_DECAY},
                                    {"params": no_decay, "weight_decay": 0.0}], lr=args.lr)
     batches = batch_indices(train_frames.count, args.batch, torch.Generator(device).manual_seed(args.seed))
     val_indices = torch.arange(val_frames.count, device=device)
+    select_indices = None if select_frames is None else torch.arange(select_frames.count, device=device)
     budget_s = args.minutes * 60 if args.minutes is not None else None
     rows, best = [], {"abs_rel": math.inf, "step": 0, "state": None}
     loss_sum, loss_steps, step = torch.zeros((), device=device), 0, 0
@@ -191,25 +248,35 @@ def train(model, train_frames, val_frames, args, device, out_dir):
 
         def validate():
             nonlocal loss_sum, loss_steps
-            figures = average(evaluate(model, val_frames, val_indices))
+            figures = average(evaluate(judged, val_frames, val_indices))
             row = {"step": step, "seconds": round(time.time() - start, 2),
                    "train_loss": float(loss_sum) / loss_steps,
-                   "val_abs_rel": figures["abs_rel"], "val_delta1": figures["delta1"]}
+                   "val_abs_rel": figures["abs_rel"], "val_delta1": figures["delta1"],
+                   "select_abs_rel": "", "select_delta1": ""}
+            if select_frames is not None:
+                selection = average(evaluate(judged, select_frames, select_indices))
+                row.update(select_abs_rel=selection["abs_rel"], select_delta1=selection["delta1"])
+            else:
+                selection = figures
             loss_sum, loss_steps = torch.zeros((), device=device), 0
             rows.append(row)
             log.writerow(row)
             log_file.flush()
-            improved = figures["abs_rel"] < best["abs_rel"]
+            improved = selection["abs_rel"] < best["abs_rel"]
             if improved:
-                best.update(abs_rel=figures["abs_rel"], step=step,
-                            state={k: v.detach().clone() for k, v in model.state_dict().items()})
+                best.update(abs_rel=selection["abs_rel"], step=step,
+                            state={k: v.detach().clone() for k, v in judged.state_dict().items()})
                 torch.save({"state_dict": {k: v.cpu() for k, v in best["state"].items()},
                             "height": model.height, "width": model.width, "step": step,
-                            "floor_prior": floor_prior_camera(model)},
+                            "floor_prior": floor_prior_camera(model),
+                            "global_context": model.global_context is not None},
                            os.path.join(out_dir, "depth_prior.pt"))
-            print("step %d  %.1f s  lr %.2e  train loss %.4f  val AbsRel %.4f  delta1 %.4f%s"
+            print("step %d  %.1f s  lr %.2e  train loss %.4f  val AbsRel %.4f  delta1 %.4f%s%s"
                   % (step, row["seconds"], optimizer.param_groups[0]["lr"], row["train_loss"],
-                     figures["abs_rel"], figures["delta1"], "  (best)" if improved else ""), flush=True)
+                     figures["abs_rel"], figures["delta1"],
+                     "" if select_frames is None else "  select AbsRel %.4f  delta1 %.4f"
+                     % (selection["abs_rel"], selection["delta1"]),
+                     "  (best)" if improved else ""), flush=True)
 
         model.train()
         while True:
@@ -222,11 +289,13 @@ def train(model, train_frames, val_frames, args, device, out_dir):
             rgb, depth = augment(as_input(train_frames.rgb[indices]), train_frames.depth[indices])
             with torch.autocast(device_type=device.type, dtype=torch.bfloat16, enabled=device.type == "cuda"):
                 output = model(rgb.contiguous(memory_format=torch.channels_last))
-            loss = laplace_nll(output, depth)
+            loss = loss_function(output, depth)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
             optimizer.step()
+            if weight_average is not None:
+                weight_average.update(model)
             loss_sum += loss.detach()
             loss_steps += 1
             step += 1
@@ -270,13 +339,15 @@ def main(argv=None):
     torch.manual_seed(args.seed)
     try:
         device = pick_device(args.device)
-        train_data, val_data = load_split(args)
+        train_data, val_data, select_data = load_split(args)
         meta = train_data["meta"]
-        model = DepthNet(meta["height"], meta["width"], meta if args.floor_prior else None)
+        model = DepthNet(meta["height"], meta["width"], meta if args.floor_prior else None, args.global_context)
     except ValueError as error:
         sys.exit("train_depth: error: %s" % error)
     os.makedirs(args.out, exist_ok=True)
-    for name, data in (("train", train_data), ("val", val_data)):
+    for name, data in (("train", train_data), ("val", val_data), ("select", select_data)):
+        if data is None:
+            continue
         print("%s: %d frames from %d shards, maps %s" % (name, len(data["kind"]), len(data["meta"]["shards"]),
                                                          ", ".join(data["meta"]["maps"])), flush=True)
     parameters = count_parameters(model)
@@ -284,9 +355,10 @@ def main(argv=None):
     print("model: %d parameters, %.1f M multiply-adds a frame; device %s"
           % (parameters, macs / 1e6, device_name(device)), flush=True)
     train_frames, val_frames = Frames(train_data, device), Frames(val_data, device)
+    select_frames = None if select_data is None else Frames(select_data, device)
     model = model.to(device).to(memory_format=torch.channels_last)
 
-    rows, best_step, steps, seconds = train(model, train_frames, val_frames, args, device, args.out)
+    rows, best_step, steps, seconds = train(model, train_frames, val_frames, select_frames, args, device, args.out)
 
     val_summary = summarize(evaluate(model, val_frames, torch.arange(val_frames.count, device=device)),
                             val_frames.kind, val_frames.map)
@@ -295,12 +367,16 @@ def main(argv=None):
     chosen = subset.numpy()
     train_summary = summarize(evaluate(model, train_frames, subset.to(device)),
                               train_frames.kind[chosen], train_frames.map[chosen])
+    select_summary = None if select_frames is None else summarize(
+        evaluate(model, select_frames, torch.arange(select_frames.count, device=device)),
+        select_frames.kind, select_frames.map)
 
     onnx_path = os.path.join(args.out, "depth_prior.onnx")
     verify_rgb = as_input(val_frames.rgb[:VERIFY_FRAMES]).cpu().contiguous().numpy()
     onnx_report = export_onnx(model, onnx_path, verify_rgb, {
         "sky_depth_m": SKY_DEPTH_M, "fx": meta["fx"], "fy": meta["fy"], "cx": meta["cx"], "cy": meta["cy"],
         "eye_height_m": meta["eye_height_m"], "floor_prior": "yes" if args.floor_prior else "no",
+        "global_context": "yes" if args.global_context else "no", "loss": args.loss,
         "train_maps": ",".join(meta["maps"]), "val_abs_rel": val_summary["all"]["abs_rel"]})
     print("exported %s; cv2.dnn vs torch max |diff| ln depth %.2e, ln b %.2e"
           % (onnx_path, onnx_report["max_abs_diff_log_depth"], onnx_report["max_abs_diff_log_scale"]), flush=True)
@@ -309,6 +385,11 @@ def main(argv=None):
         "format": FORMAT_VERSION,
         "val": val_summary,
         "train_subset": train_summary,
+        "select": select_summary,
+        "picked_by": "select" if select_frames is not None else "val",
+        "loss": args.loss,
+        "global_context": args.global_context,
+        "ema": args.ema,
         "sky_depth_m": SKY_DEPTH_M,
         "metric_depth_range_m": [METRIC_MIN_M, METRIC_MAX_M],
         "floor_prior": floor_prior_camera(model),
@@ -328,6 +409,8 @@ def main(argv=None):
         "command_line": shlex.join([sys.argv[0]] + argv),
         "train_frames": train_frames.count,
         "val_frames": val_frames.count,
+        "select_frames": 0 if select_frames is None else select_frames.count,
+        "select_maps": [] if select_frames is None else select_frames.meta["maps"],
         "train_maps": meta["maps"],
         "val_maps": val_frames.meta["maps"],
         "train_shards": meta["shards"],

@@ -11,7 +11,9 @@ Input "rgb": float32 [N,3,H,W] RGB in [0,1]. Output "depth_and_scale": float32
 scale of the ln-depth error, clamped to [LOG_SCALE_MIN, LOG_SCALE_MAX].
 
 With a floor prior (floor_prior.py) the depth head predicts ln depth relative to
-the floor-plane depth of each row, added inside the net: the output is the same."""
+the floor-plane depth of each row, added inside the net: the output is the same.
+With global context (GlobalContext) the stride-32 features also see a summary of
+the whole frame before decoding."""
 import copy
 import math
 
@@ -43,6 +45,8 @@ ENCODER_STAGES = [
 STEM_CHANNELS = 16
 # Decoder output channels from stride 16 up to full resolution.
 DECODER_CHANNELS = [96, 64, 32, 24, 16]
+# Width of GlobalContext's summary of the frame.
+GLOBAL_CONTEXT_CHANNELS = 256
 
 
 class ConvBN(nn.Sequential):
@@ -100,6 +104,29 @@ class AddFloorPrior(nn.Module):
         return residual + (rgb[:, :1] * 0 + self.log_depth)
 
 
+class GlobalContext(nn.Module):
+    """Concatenates a summary of the whole frame (the mean of the features, through
+    two 1x1 layers) to every position, then mixes back to the input width.
+
+    How far a wall is depends on the room's size, which a 3x3 stack sees only in
+    part; the mean over the frame is a cheap view of all of it. The summary is
+    spread by a nearest Resize of fixed scales (a broadcasting Add of two tensors
+    is not in OpenCV 4.6's importer)."""
+
+    def __init__(self, channels, grid_height, grid_width):
+        super().__init__()
+        self.grid = (float(grid_height), float(grid_width))
+        self.summary = nn.Sequential(nn.Conv2d(channels, GLOBAL_CONTEXT_CHANNELS, 1), nn.ReLU(inplace=True),
+                                     nn.Conv2d(GLOBAL_CONTEXT_CHANNELS, GLOBAL_CONTEXT_CHANNELS, 1),
+                                     nn.ReLU(inplace=True))
+        self.mix = ConvBN(channels + GLOBAL_CONTEXT_CHANNELS, channels)
+
+    def forward(self, x):
+        summary = self.summary(F.adaptive_avg_pool2d(x, 1))
+        spread = F.interpolate(summary, scale_factor=self.grid, mode="nearest")
+        return self.mix(torch.cat([x, spread], 1))
+
+
 class InvertedResidual(nn.Module):
     """MobileNetV2 block: 1x1 expand, 3x3 depthwise, linear 1x1 project."""
 
@@ -141,9 +168,9 @@ def clamp_by_relu(x, low, high):
 class DepthNet(nn.Module):
     """floor_prior: None (the depth head predicts ln depth itself) or the camera
     (fy, cy, eye_height_m) whose floor-plane depth the head predicts ln depth
-    relative to."""
+    relative to. global_context: a GlobalContext after the encoder."""
 
-    def __init__(self, height=96, width=128, floor_prior=None):
+    def __init__(self, height=96, width=128, floor_prior=None, global_context=False):
         super().__init__()
         if height % 32 or width % 32:
             raise ValueError("DepthNet needs a size divisible by 32, got %dx%d" % (width, height))
@@ -160,6 +187,7 @@ class DepthNet(nn.Module):
                 channels = cout
             self.stages.append(nn.Sequential(*blocks))
             skips.append(channels)
+        self.global_context = GlobalContext(channels, height // 32, width // 32) if global_context else None
         # Skips at strides 16, 8, 4, 2, then none at full resolution.
         self.decoder = nn.ModuleList()
         for cout, skip in zip(DECODER_CHANNELS, skips[-2::-1] + [0]):
@@ -179,6 +207,8 @@ class DepthNet(nn.Module):
             x = stage(x)
             skips.append(x)
         x = skips.pop()
+        if self.global_context is not None:
+            x = self.global_context(x)
         for stage in self.decoder:
             x = stage(x, skips.pop() if skips else None)
         log_depth = self.depth_head(x)

@@ -1,9 +1,23 @@
-"""Training loss: Laplace negative log-likelihood of ln depth."""
+"""Training losses of ln depth, sky trained as 80 m.
+
+laplace_nll: the Laplace negative log-likelihood of runs v1-v5. The learnt scale b
+divides each pixel's depth gradient, so the net can give up on hard pixels (a large
+b) and learn them slowest.
+
+decoupled_loss: the depth and its confidence trained apart (run v6). The depth
+learns from |ln error| plus the pixel's AbsRel, which punishes a surface placed too
+far without bound as the benchmark does; the scale head learns the same Laplace NLL
+on the detached error, so ln b keeps its meaning (the scale of the ln-depth error)
+without weighting the depth's gradient."""
 import torch
 
 # Sky has no depth; it is trained as this far away, beyond the arenas' extent, so
 # the net learns "far" there rather than nothing.
 SKY_DEPTH_M = 80.0
+# The AbsRel term's ln error is capped here (exp(3) - 1 = 19 times too far): beyond
+# it the L1 term alone pulls, so a wild first step cannot overflow the loss.
+ABS_REL_MAX_LOG_ERROR = 3.0
+LOSSES = ("laplace", "decoupled")
 
 
 def log_depth_target(depth, sky_depth_m=SKY_DEPTH_M):
@@ -19,3 +33,25 @@ def laplace_nll(output, depth, sky_depth_m=SKY_DEPTH_M):
     mu, log_scale = output[:, 0], output[:, 1]
     error = (mu - log_depth_target(depth.float(), sky_depth_m)).abs()
     return (error * torch.exp(-log_scale) + log_scale).mean()
+
+
+def decoupled_loss(output, depth, sky_depth_m=SKY_DEPTH_M):
+    """Mean over pixels of |e| + |exp(e) - 1| (the latter, the pixel's AbsRel, on
+    pixels with a depth only: the benchmark leaves sky out) plus the Laplace NLL
+    |e| * exp(-s) + s with e detached, e = mu - ln d. Same arguments as laplace_nll."""
+    output = output.float()
+    mu, log_scale = output[:, 0], output[:, 1]
+    depth = depth.float()
+    error = mu - log_depth_target(depth, sky_depth_m)
+    has_depth = ~torch.isnan(depth)
+    abs_rel = (torch.exp(error.clamp(max=ABS_REL_MAX_LOG_ERROR)) - 1).abs()
+    depth_term = error.abs() + torch.where(has_depth, abs_rel, torch.zeros_like(abs_rel))
+    scale_term = error.detach().abs() * torch.exp(-log_scale) + log_scale
+    return (depth_term + scale_term).mean()
+
+
+def training_loss(name):
+    """The loss function called name (one of LOSSES)."""
+    if name not in LOSSES:
+        raise ValueError("unknown loss %r (expected one of %s)" % (name, ", ".join(LOSSES)))
+    return laplace_nll if name == "laplace" else decoupled_loss

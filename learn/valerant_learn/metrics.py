@@ -10,6 +10,9 @@ import torch
 METRIC_MIN_M = 0.1
 METRIC_MAX_M = 80.0
 METRIC_NAMES = ("abs_rel", "delta1", "rmse_log")
+# frame_calibration's figures; for a calibrated Laplace scale b of the ln-depth
+# error, E|e|/b = 1 and P(|e| < b) = 1 - 1/e = 0.632.
+CALIBRATION_NAMES = ("scaled_error", "within_scale")
 
 
 def frame_metrics(pred, gt):
@@ -37,14 +40,39 @@ def frame_metrics(pred, gt):
     return result
 
 
+def frame_calibration(log_depth, log_scale, gt):
+    """How well the predicted ln b describes the ln-depth error e = ln p - ln g.
+    log_depth, log_scale, gt: [N,H,W] (gt metres, NaN for sky, left out; no
+    clipping: b describes the raw error). Returns {name: float64 numpy [N]}:
+    scaled_error = mean |e| / b and within_scale = fraction with |e| < b; NaN for a
+    frame with no pixel."""
+    log_depth = torch.as_tensor(log_depth, dtype=torch.float64)
+    log_scale = torch.as_tensor(log_scale, dtype=torch.float64, device=log_depth.device)
+    gt = torch.as_tensor(gt, dtype=torch.float64, device=log_depth.device)
+    valid = ~torch.isnan(gt)
+    error = (log_depth - torch.where(valid, gt, torch.ones_like(gt)).log()).abs()
+    weight = valid.double()
+    pixels = weight.sum(dim=(1, 2))
+    count = pixels.clamp(min=1)
+    values = {
+        "scaled_error": (error * torch.exp(-log_scale) * weight).sum(dim=(1, 2)) / count,
+        "within_scale": ((error < torch.exp(log_scale)).double() * weight).sum(dim=(1, 2)) / count,
+    }
+    return {name: torch.where(pixels > 0, value, torch.full_like(value, math.nan)).cpu().numpy()
+            for name, value in values.items()}
+
+
 def average(per_frame, mask=None):
-    """Means over the frames selected by mask (all if None) that have pixels;
-    None for a metric when no frame qualifies."""
+    """Means over the frames selected by mask (all if None) that have pixels of
+    METRIC_NAMES and of those CALIBRATION_NAMES per_frame holds; None for a
+    metric when no frame qualifies."""
     keep = per_frame["pixels"] > 0
     if mask is not None:
         keep = keep & np.asarray(mask, dtype=bool)
     summary = {"frames": int(keep.sum())}
-    for name in METRIC_NAMES:
+    for name in METRIC_NAMES + CALIBRATION_NAMES:
+        if name not in per_frame:
+            continue
         summary[name] = float(per_frame[name][keep].mean()) if keep.any() else None
     return summary
 

@@ -11,15 +11,22 @@ DEPTH_TICKS_M = (0.1, 0.2, 0.5, 1, 2, 3, 5, 10, 20, 30, 50, 80)
 
 
 def plot_curves(rows, path):
-    """rows: dicts with step, train_loss, val_abs_rel, val_delta1 (log.csv's rows)."""
+    """rows: dicts with step, train_loss, val_abs_rel, val_delta1 and, where a
+    selection set picked the weights, select_abs_rel and select_delta1 (log.csv's
+    rows; the select columns are "" without one)."""
     steps = [row["step"] for row in rows]
     figure, (loss_axes, val_axes) = plt.subplots(1, 2, figsize=(11, 4))
-    loss_axes.plot(steps, [row["train_loss"] for row in rows], marker=".", label="train loss (Laplace NLL)")
+    loss_axes.plot(steps, [row["train_loss"] for row in rows], marker=".", label="train loss")
     loss_axes.set_xlabel("step")
     loss_axes.set_ylabel("loss (mean since the previous evaluation)")
     loss_axes.legend()
     val_axes.plot(steps, [row["val_abs_rel"] for row in rows], marker=".", label="val AbsRel")
     val_axes.plot(steps, [row["val_delta1"] for row in rows], marker=".", label="val delta<1.25")
+    if rows and rows[0].get("select_abs_rel", "") != "":
+        val_axes.plot(steps, [row["select_abs_rel"] for row in rows], marker=".", linestyle="--",
+                      label="selection maps AbsRel")
+        val_axes.plot(steps, [row["select_delta1"] for row in rows], marker=".", linestyle="--",
+                      label="selection maps delta<1.25")
     val_axes.set_xlabel("step")
     val_axes.set_ylabel("value")
     val_axes.set_ylim(0, 1)
