@@ -12,7 +12,8 @@
 //
 //   valerant_dataset --out DIR [--split train|evaluation] [--maps A,B,...] [--exclude A,B]
 //                    [--seed N] [--width 128] [--height 96] [--spawns 3] [--rotations 12]
-//                    [--walks 12] [--shard-mib 24] [--in-solid skip|keep] [--config FILE]
+//                    [--walks 12] [--walk-frames 48] [--every N] [--shard-mib 24]
+//                    [--in-solid skip|keep] [--config FILE]
 //                    [--set key=value ...] [--texture-shuffle P]
 //   valerant_dataset --list-maps [--split ...] [--maps ...] [--exclude ...]   (the maps, one a line)
 //   (--help: every flag)
@@ -110,6 +111,12 @@ int main(int argc, char** argv) {
   tools::addInteger(app, "--spawns", params.spawns, "spawns whose candidate rollouts are rendered, per map", 0);
   tools::addInteger(app, "--rotations", params.rotations, "turns in place from random reachable cells, per map", 0);
   tools::addInteger(app, "--walks", params.walks, "random walks from random reachable cells, per map", 0);
+  tools::addInteger(app, "--walk-frames", params.walk_frames, "frames of one random walk", 1);
+  int every = 0;
+  tools::addInteger(app, "--every", every,
+                    "keep every Nth frame of every sequence (1: consecutive frames, for a world model; "
+                    "0: each kind's own stride)",
+                    0);
   tools::addInteger(app, "--shard-mib", shard_mib, "shard size in MiB (1 to 60)", 1, 60);
   app.add_option("--in-solid", in_solid, "skip: a sequence stops where the camera enters solid; keep: it goes on")
       ->capture_default_str()
@@ -121,6 +128,7 @@ int main(int argc, char** argv) {
   const CLI::Option* list_maps = app.add_flag("--list-maps", "print the maps, one a line, and render nothing");
   return tools::runTool(app, argc, argv, [&] {
     const Config config = tool_config.document().parse();
+    if (every > 0) params.rollout_every = params.rotation_every = params.walk_every = every;
     const dataset::MapSets sets = dataset::loadMapSets(map_sets_file);
     const std::vector<std::string> maps = chooseMaps(*maps_flag, maps_text, *exclude_flag, exclude_text, sets, split);
     if (list_maps->count()) {
@@ -193,7 +201,8 @@ int main(int argc, char** argv) {
                                  {"width", config.world.width}, {"height", config.world.height},
                                  {"maps", maps},  {"frames", frames}, {"frames_per_map", per_map},
                                  {"sequences_stopped_in_solid", in_solid_stops}, {"shards", shards},
-                                 {"texture_shuffle", texture_shuffle}, {"texture_pool_images", pool.images.size()}};
+                                 {"texture_shuffle", texture_shuffle}, {"texture_pool_images", pool.images.size()},
+                                 {"every", every}, {"walk_frames", params.walk_frames}};
     std::cout << line.dump() << std::endl;
     return 0;
   });
