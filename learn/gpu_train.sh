@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The depth prior's training runs on the GPU host (the `device` tool). One call carries
+# The learned parts' training runs on the GPU host (the `device` tool): the depth prior
+# (learn/train_depth.py) or, with TRAINER=train_world_model.py, the world model. One call carries
 # at most 64 MiB and runs at most 10 minutes, so the shards travel in parts and the
 # training outlives a call: each call stages the shards it carries under $VDATA
 # (outside the working tree; kept while the machine stays warm), `start` launches a
@@ -10,7 +11,7 @@
 #   learn/gpu_train.sh stage             copy the carried $DATA/train_*/*.zip and $DATA/eval/*.zip to $VDATA
 #   learn/gpu_train.sh start NAME MINUTES [OPTION...]
 #                                        stage, then train run NAME for MINUTES (in the background)
-#                                        into $RUNS/NAME; OPTIONs go to train_depth.py after the
+#                                        into $RUNS/NAME; OPTIONs go to $TRAINER after the
 #                                        defaults below, so they override them (e.g. --loss decoupled)
 #   learn/gpu_train.sh wait SECONDS      wait that long (or to the end of every run), print the logs' tails
 #   learn/gpu_train.sh collect           wait for every run (at most 540 s), pack each into $OUT/NAME.tgz
@@ -23,6 +24,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VDATA=${VDATA:-/root/vdata}
+export TRAINER=${TRAINER:-train_depth.py}
 RUNS=${RUNS:-/root/depth_runs}
 mode=${1:-stage}
 case $mode in stage | start | wait | collect) ;; *) echo "gpu_train.sh: unknown mode '$mode' (stage, start, wait or collect)" >&2; exit 2 ;; esac
@@ -52,7 +54,7 @@ if [ "$mode" = collect ]; then
     [ -f "$RUNS/$name.done" ] || { echo "$name: no exit status (the process died)"; status=1; continue; }
     [ "$(cat "$RUNS/$name.done")" = 0 ] || { echo "$name: exit status $(cat "$RUNS/$name.done")"; status=1; }
     cp "$RUNS/$name.log" "$RUNS/$name/train.log"
-    tar -czf "$OUT/$name.tgz" -C "$RUNS" --exclude depth_prior.pt "$name"
+    tar -czf "$OUT/$name.tgz" -C "$RUNS" --exclude '*.pt' "$name"
   done
   exit $status
 fi
@@ -65,13 +67,14 @@ echo "staged: $(ls "$VDATA/train" | wc -l) training shards, $(ls "$VDATA/eval" |
 du -sh "$VDATA/train" "$VDATA/eval"
 [ "$mode" = start ] || exit 0
 name=${2:-}
+case $TRAINER in train_depth.py | train_world_model.py) ;; *) echo "gpu_train.sh: TRAINER must be train_depth.py or train_world_model.py, got '$TRAINER'" >&2; exit 2 ;; esac
 [[ $name =~ ^[A-Za-z0-9_-]+$ ]] || { echo "gpu_train.sh start: NAME must be letters, digits, _ or -, got '$name'" >&2; exit 2; }
 [[ ${3:-} =~ ^[0-9]+([.][0-9]+)?$ ]] || { echo "gpu_train.sh start: MINUTES must be a number, got '${3:-}'" >&2; exit 2; }
 python3 -c 'import torch, cv2, onnx; print("torch", torch.__version__, "cuda", torch.cuda.is_available(), torch.cuda.get_device_name(0) if torch.cuda.is_available() else "-", "cv2", cv2.__version__, "onnx", onnx.__version__)'
 rm -rf "${RUNS:?}/$name" "$RUNS/$name.done"
 mkdir -p "$RUNS/$name"
 # setsid: the training must outlive this call's process group.
-setsid bash -c 'PYTHONUNBUFFERED=1 python3 learn/train_depth.py --train "$2/train/*.zip" --val "$2/eval/*.zip" --out "$1" \
+setsid bash -c 'PYTHONUNBUFFERED=1 python3 "learn/$TRAINER" --train "$2/train/*.zip" --val "$2/eval/*.zip" --out "$1" \
    --minutes "$0" --batch 256 --workers 16 --seed 0 --device cuda "${@:3}" > "$1.log" 2>&1; echo $? > "$1.done"' \
   "$3" "$RUNS/$name" "$VDATA" "${@:4}" < /dev/null &
 sleep 5

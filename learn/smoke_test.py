@@ -16,7 +16,6 @@ import sys
 import tempfile
 import time
 import unittest
-import xml.etree.ElementTree as ET
 import zipfile
 
 import cv2
@@ -27,6 +26,7 @@ import error_by_depth
 import train_depth
 from valerant_learn.depth_net import DepthNet, GlobalContext
 from valerant_learn.floor_prior import floor_log_depth
+from valerant_learn.junit import JUnitResult, write_junit
 from valerant_learn.log16 import decode_log16, encode_log16
 from valerant_learn.losses import decoupled_loss, laplace_nll, training_loss
 from valerant_learn.metrics import frame_calibration, frame_metrics
@@ -447,54 +447,6 @@ class TrainDepthTest(unittest.TestCase):
         return metrics
 
 
-class JUnitResult(unittest.TextTestResult):
-    """Also records every test's outcome and time for the JUnit XML."""
-
-    def __init__(self, *args, **kwargs):
-        super().__init__(*args, **kwargs)
-        self.cases = []
-
-    def startTest(self, test):
-        self.started = time.time()
-        super().startTest(test)
-
-    def record(self, test, problem=None):
-        # A setUpModule error comes without a test case; write_junit reports it.
-        if hasattr(test, "_testMethodName"):
-            self.cases.append((test, time.time() - self.started, problem))
-
-    def addSuccess(self, test):
-        super().addSuccess(test)
-        self.record(test)
-
-    def addFailure(self, test, err):
-        super().addFailure(test, err)
-        self.record(test, self.failures[-1][1])
-
-    def addError(self, test, err):
-        super().addError(test, err)
-        self.record(test, self.errors[-1][1])
-
-
-def write_junit(path, result, seconds):
-    failed = [case for case in result.cases if case[2] is not None]
-    module_errors = [(test, problem) for test, problem in result.errors if not hasattr(test, "_testMethodName")]
-    suite = ET.Element("testsuite", name="learn_smoke_test", tests=str(len(result.cases) + len(module_errors)),
-                       failures=str(len(failed) + len(module_errors)), errors="0", time="%.3f" % seconds)
-    for test, duration, problem in result.cases:
-        case = ET.SubElement(suite, "testcase", classname="learn.%s" % type(test).__name__,
-                             name=test._testMethodName, time="%.3f" % duration)
-        if problem is not None:
-            lines = problem.strip().splitlines()
-            failure = ET.SubElement(case, "failure", message=lines[-1] if lines else "failed")
-            failure.text = problem
-    for test, problem in module_errors:
-        case = ET.SubElement(suite, "testcase", classname="learn.smoke_test", name=str(test))
-        ET.SubElement(case, "failure", message=problem.strip().splitlines()[-1]).text = problem
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--xml", metavar="PATH", help="write JUnit XML here")
@@ -505,7 +457,7 @@ def main():
     start = time.time()
     result = unittest.TextTestRunner(verbosity=2, resultclass=JUnitResult).run(suite)
     if args.xml:
-        write_junit(args.xml, result, time.time() - start)
+        write_junit(args.xml, result, time.time() - start, "learn_smoke_test")
     return 0 if result.wasSuccessful() else 1
 
 

@@ -12,12 +12,9 @@ Writes to --out: log.csv, depth_prior.pt (the kept weights),
 depth_prior.onnx (verified in cv2.dnn), metrics.json, curves.png, samples.png."""
 import argparse
 import csv
-import glob
-import hashlib
 import json
 import math
 import os
-import platform
 import random
 import shlex
 import sys
@@ -33,11 +30,10 @@ from valerant_learn.metrics import METRIC_MAX_M, METRIC_MIN_M, average, frame_ca
 from valerant_learn.onnx_export import FORMAT_VERSION, export_onnx
 from valerant_learn.plots import plot_curves, plot_samples
 from valerant_learn.shards import check_same_camera, load_shards
+from valerant_learn.training import device_name, expand_globs, learning_rate, pick_device, sha256
 from valerant_learn.weight_average import WeightAverage
 
 WEIGHT_DECAY = 0.01
-WARMUP_FRACTION = 0.03
-FINAL_LR_FRACTION = 0.01
 # The NLL's exp(-s) factor (and the AbsRel term's exp(e)) can make rare, very large gradients.
 GRAD_CLIP_NORM = 1.0
 EVAL_BATCH = 256
@@ -97,16 +93,6 @@ def parse_args(argv):
     return args
 
 
-def expand_globs(patterns, option):
-    paths = []
-    for pattern in patterns:
-        matches = sorted(glob.glob(pattern))
-        if not matches:
-            raise ValueError("%s %s: no such shard" % (option, pattern))
-        paths.extend(path for path in matches if path not in paths)
-    return paths
-
-
 def take_frames(data, keep):
     """The frames of a load_shards() result where keep (bool [N]) holds, its
     meta's maps narrowed to theirs."""
@@ -148,20 +134,6 @@ def load_split(args):
     return train, val, select
 
 
-def pick_device(choice):
-    if choice == "auto":
-        choice = "cuda" if torch.cuda.is_available() else "cpu"
-    if choice == "cuda" and not torch.cuda.is_available():
-        raise ValueError("--device cuda, but torch sees no CUDA device")
-    return torch.device(choice)
-
-
-def device_name(device):
-    if device.type == "cuda":
-        return torch.cuda.get_device_name(device)
-    return "cpu (%s, %d threads)" % (platform.machine(), torch.get_num_threads())
-
-
 class Frames:
     """One split on the training device: uint8 RGB and float depth, loaded once."""
 
@@ -189,15 +161,6 @@ def batch_indices(count, batch, generator):
             pending = torch.cat([pending, torch.randperm(count, generator=generator, device=device)])
         yield pending[:batch]
         pending = pending[batch:]
-
-
-def learning_rate(base, progress):
-    """One cycle over progress in [0,1]: linear warm-up from base/10, then cosine
-    decay to FINAL_LR_FRACTION * base."""
-    if progress < WARMUP_FRACTION:
-        return base * (0.1 + 0.9 * progress / WARMUP_FRACTION)
-    t = min(1.0, (progress - WARMUP_FRACTION) / (1 - WARMUP_FRACTION))
-    return base * (FINAL_LR_FRACTION + (1 - FINAL_LR_FRACTION) * 0.5 * (1 + math.cos(math.pi * t)))
 
 
 def predict(model, rgb):
@@ -314,11 +277,6 @@ def floor_prior_camera(model):
     """The camera the model's floor prior was built for (DepthNet's floor_prior
     argument), None without one."""
     return None if model.floor_prior is None else dict(model.floor_prior.camera)
-
-
-def sha256(path):
-    with open(path, "rb") as handle:
-        return hashlib.sha256(handle.read()).hexdigest()
 
 
 def write_samples(model, frames, path):

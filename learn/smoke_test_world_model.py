@@ -1,0 +1,231 @@
+#!/usr/bin/env python3
+"""CPU smoke test of the world model's training code (one core, well under a minute).
+
+Unit tests of the hand-checkable parts (motion from poses, sequence splitting, the
+warp, PSNR/SSIM, the horizon table) and an end-to-end run of train_world_model.py
+on tiny synthetic shards of a panorama seen through a turning camera, whose ONNX
+output must load in cv2.dnn and match torch.
+
+  smoke_test_world_model.py [--xml PATH]   # PATH: JUnit XML for scripts/count_test_results"""
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import cv2
+import numpy as np
+import torch
+
+from split_shard import cut_points, split_shard
+from valerant_learn.junit import JUnitResult, write_junit
+from valerant_learn.shards import load_shards, write_shard
+from valerant_learn.world_data import WorldWindows, motion_between, split_sequences, wrap_degrees
+from valerant_learn.world_metrics import horizon_table, psnr, ssim
+from valerant_learn.world_net import WorldNet, apply_warp, rollout
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+WIDTH, HEIGHT = 128, 96
+CAMERA = {"fx": 64.0, "fy": 64.0, "cx": 63.5, "cy": 47.5, "depth_min_m": 0.05, "depth_max_m": 200.0,
+          "seed": 0, "units_per_metre": 32, "eye_height_m": 1.5625}
+TRAIN_MAP, VAL_MAP = "synth_train", "synth_val"
+# One pixel of panorama a frame: the camera turns by a fixed step.
+TURN_DEG_PER_FRAME = 1.6
+
+
+def panorama_shard(path, map_name, sequences, length, seed):
+    """Sequences of a camera turning left over a random panorama: frame t is the
+    window starting t pixels further left (so each frame shifts the image right by
+    one pixel), yaw up TURN_DEG_PER_FRAME a frame; the last sequence also walks."""
+    rng = np.random.default_rng(seed)
+    frames, rgbs = [], []
+    for s in range(sequences):
+        panorama = cv2.resize(rng.integers(0, 255, (12, 40, 3), dtype=np.uint8), (WIDTH + length + 1, HEIGHT),
+                              interpolation=cv2.INTER_LINEAR)
+        for t in range(length):
+            left = length - t
+            rgbs.append(panorama[:, left:left + WIDTH])
+            frames.append({"map": map_name, "spawn": 0, "sequence": s, "step": t,
+                           "kind": "rollout" if s == 0 else "walk", "key": "" if t == 0 else "j",
+                           "x": 0.1 * t * (s == sequences - 1), "y": 0.0, "z": 1.5625,
+                           "yaw_deg": TURN_DEG_PER_FRAME * t, "pitch_deg": 0.0, "in_solid": 0})
+    depth = np.full((len(rgbs), HEIGHT, WIDTH), 5.0, dtype=np.float32)
+    write_shard(path, np.stack(rgbs), depth, frames, CAMERA)
+
+
+def setUpModule():
+    global WORK, TRAIN_SHARD, VAL_SHARD
+    WORK = tempfile.mkdtemp(prefix="valerant_wm_smoke_")
+    TRAIN_SHARD = os.path.join(WORK, "train.zip")
+    VAL_SHARD = os.path.join(WORK, "val.zip")
+    panorama_shard(TRAIN_SHARD, TRAIN_MAP, 3, 12, seed=1)
+    panorama_shard(VAL_SHARD, VAL_MAP, 2, 10, seed=2)
+
+
+def tearDownModule():
+    shutil.rmtree(WORK, ignore_errors=True)
+
+
+class MotionTest(unittest.TestCase):
+    def test_wrap(self):
+        self.assertEqual(float(wrap_degrees(350.0 - 10.0)), -20.0)
+        self.assertEqual(float(wrap_degrees(10.0 - 350.0)), 20.0)
+        self.assertEqual(float(wrap_degrees(-180.0)), 180.0)
+
+    def test_motion_between_poses(self):
+        # Turn 90 deg left, then 1 m along +x: the new heading is +y, whose right is
+        # +x, so the 32 units are a strafe to the right.
+        motion = motion_between({"x": 0.0, "y": 0.0, "yaw_deg": 0.0, "pitch_deg": 0.0},
+                                {"x": 1.0, "y": 0.0, "yaw_deg": 90.0, "pitch_deg": 2.0})
+        np.testing.assert_allclose(motion, [0.0, 32.0, 90.0, 2.0], atol=1e-5)
+        # Heading 180 deg, 0.5 m along -x: 16 units forward, across the 359 -> 179 wrap.
+        motion = motion_between({"x": 0.0, "y": 0.0, "yaw_deg": 359.0, "pitch_deg": 0.0},
+                                {"x": -0.5, "y": 0.0, "yaw_deg": 180.0, "pitch_deg": 0.0})
+        np.testing.assert_allclose(motion, [16.0 * np.cos(np.radians(0.0)), 0.0, -179.0, 0.0], atol=1e-4)
+
+    def test_split_sequences_breaks_at_gaps_and_maps(self):
+        frames = {"map": np.array(["a", "a", "a", "a", "b", "b"]), "sequence": np.array([0, 0, 0, 1, 1, 1]),
+                  "step": np.array([0, 1, 3, 0, 0, 1])}
+        self.assertEqual([list(run) for run in split_sequences(frames)], [[0, 1], [2], [3], [4, 5]])
+
+    def test_window_pads_context_with_the_first_frame(self):
+        rgb = np.arange(5, dtype=np.uint8)[:, None, None, None] * np.ones((1, 2, 2, 3), np.uint8)
+        frames = {"map": np.array(["a"] * 5), "sequence": np.zeros(5, int), "step": np.arange(5),
+                  "kind": np.array(["walk"] * 5), "x": np.zeros(5), "y": np.zeros(5),
+                  "yaw_deg": np.arange(5) * 2.0, "pitch_deg": np.zeros(5)}
+        windows = WorldWindows(rgb, frames, context=3)
+        context, targets, motions = windows.window(0, 1, 2)
+        self.assertEqual([int(f[0, 0, 0]) for f in context], [0, 0, 1])
+        self.assertEqual([int(f[0, 0, 0]) for f in targets], [2, 3])
+        np.testing.assert_allclose(motions[:, 2], [2.0, 2.0])
+        self.assertEqual(len(windows.starts(2)), 3)
+
+
+class WarpTest(unittest.TestCase):
+    def test_flow_one_pixel_right_samples_the_next_column(self):
+        last = torch.arange(12, dtype=torch.float32).view(1, 1, 3, 4).expand(1, 3, 3, 4) / 20
+        out = torch.zeros(1, 6, 3, 4)
+        out[:, 0] = 1.0  # dx = 1: pixel x shows last(x + 1)
+        out[:, 2] = 1.0  # mask: all warp
+        warped = apply_warp(last, out)
+        expected = torch.tensor([[1, 2, 3, 3], [5, 6, 7, 7], [9, 10, 11, 11]], dtype=torch.float32) / 20
+        torch.testing.assert_close(warped[0, 0], expected)
+
+    def test_mask_zero_gives_the_fill(self):
+        last = torch.rand(1, 3, 4, 5)
+        out = torch.zeros(1, 6, 4, 5)
+        out[:, 3:6] = 0.25
+        torch.testing.assert_close(apply_warp(last, out), torch.full((1, 3, 4, 5), 0.25))
+
+    def test_half_pixel_flow_interpolates(self):
+        last = torch.tensor([0.0, 1.0]).view(1, 1, 1, 2).expand(1, 3, 2, 2)
+        out = torch.zeros(1, 6, 2, 2)
+        out[:, 0] = 0.5
+        out[:, 2] = 1.0
+        torch.testing.assert_close(apply_warp(last, out)[0, 0, 0], torch.tensor([0.5, 1.0]))
+
+
+class MetricsTest(unittest.TestCase):
+    def test_psnr_of_a_uniform_error(self):
+        # Every pixel off by 0.1: MSE 0.01, PSNR 10 log10(1 / 0.01) = 20 dB.
+        a = torch.full((1, 3, 16, 16), 0.5)
+        self.assertAlmostEqual(float(psnr(a + 0.1, a)[0]), 20.0, places=4)
+
+    def test_ssim_of_equal_and_of_shifted_constant_images(self):
+        a = torch.rand(1, 3, 16, 16)
+        self.assertAlmostEqual(float(ssim(a, a)[0]), 1.0, places=5)
+        # Constant images 0.2 and 0.4: no variance, so SSIM = (2 mu1 mu2 + C1) / (mu1^2 + mu2^2 + C1)
+        # = (0.16 + 1e-4) / (0.2 + 1e-4) = 0.80010.
+        self.assertAlmostEqual(float(ssim(torch.full((1, 3, 16, 16), 0.2), torch.full((1, 3, 16, 16), 0.4))[0]),
+                               0.1601 / 0.2001, places=4)
+
+    def test_horizon_table_counts_long_enough_rollouts(self):
+        long, short = torch.rand(97, 3, 16, 16), torch.rand(57, 3, 16, 16)
+        table = horizon_table([(long, long, long[0]), (short, short.clone(), short[0])])
+        self.assertEqual([table[h]["rollouts"] for h in ("8", "57", "97")], [2, 2, 1])
+        self.assertAlmostEqual(table["8"]["model"]["ssim"], 1.0, places=5)
+        self.assertAlmostEqual(table["97"]["model"]["psnr"], 100.0, places=3)
+
+
+class WorldNetTest(unittest.TestCase):
+    def test_rollout_shapes_and_initial_mask(self):
+        torch.manual_seed(0)
+        model = WorldNet(2, 32, 48).eval()
+        context = torch.rand(1, 2, 3, 32, 48)
+        with torch.no_grad():
+            frames = rollout(model, context, torch.zeros(1, 5, 4))
+            out = model(torch.cat([context.flatten(1, 2), torch.zeros(1, 4, 32, 48)], 1))
+        self.assertEqual(tuple(frames.shape), (1, 5, 3, 32, 48))
+        self.assertTrue(0.97 < float(out[:, 2].mean()) < 0.99)
+
+    def test_rejects_a_size_not_a_multiple_of_16(self):
+        with self.assertRaises(ValueError):
+            WorldNet(4, 90, 128)
+
+
+class SplitShardTest(unittest.TestCase):
+    def test_cut_points_fall_between_sequences(self):
+        # Sequences start at rows 0, 5, 6, 10 of 12: halves cut at 6 (nearest 6.0).
+        self.assertEqual(cut_points([0, 5, 6, 10, 12], 2), [0, 6, 12])
+        self.assertEqual(cut_points([0, 5, 6, 10, 12], 4), [0, 5, 6, 10, 12])
+        with self.assertRaises(ValueError):
+            cut_points([0, 5, 12], 3)
+
+    def test_parts_hold_every_frame_and_whole_sequences(self):
+        paths = split_shard(TRAIN_SHARD, 2, os.path.join(WORK, "parts"))
+        whole, parts = load_shards([TRAIN_SHARD]), load_shards(paths)
+        np.testing.assert_array_equal(whole["rgb"], parts["rgb"])
+        np.testing.assert_array_equal(whole["step"], parts["step"])
+        self.assertEqual([len(load_shards([p])["index"]) for p in paths], [12, 24])
+
+
+class TrainWorldModelTest(unittest.TestCase):
+    def test_rejects_val_maps_in_train(self):
+        run = self.train("never", ["--val", VAL_SHARD, TRAIN_SHARD])
+        self.assertNotEqual(run.returncode, 0)
+        self.assertIn("val maps overlap train maps: " + TRAIN_MAP, run.stdout)
+
+    def test_end_to_end_on_cpu(self):
+        out = os.path.join(WORK, "run")
+        run = self.train("run", ["--val", VAL_SHARD])
+        self.assertEqual(run.returncode, 0, run.stdout)
+        for name in ("log.csv", "world_model.pt", "world_model.onnx", "metrics.json", "curves.png", "rollouts.png"):
+            self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
+        with open(os.path.join(out, "metrics.json")) as handle:
+            metrics = json.load(handle)
+        self.assertEqual((metrics["train_frames"], metrics["train_sequences"], metrics["val_rollouts"]), (36, 3, 1))
+        self.assertEqual(metrics["horizons"]["8"]["rollouts"], 1)
+        self.assertEqual(metrics["horizons"]["16"]["rollouts"], 0)
+        self.assertLess(metrics["onnx_check"]["max_abs_diff"], 1e-3)
+        with open(os.path.join(out, "log.csv")) as handle:
+            self.assertEqual([line.split(",")[0] for line in handle.read().split()], ["step", "2", "4"])
+
+    def train(self, name, options):
+        env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")
+        command = [sys.executable, os.path.join(HERE, "train_world_model.py"), "--train", TRAIN_SHARD,
+                   "--out", os.path.join(WORK, name), "--steps", "4", "--batch", "2", "--eval-every", "2",
+                   "--unroll", "2", "--late-unroll", "3", "--device", "cpu", "--workers", "1"] + options
+        return subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                              universal_newlines=True, timeout=120)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--xml", metavar="PATH", help="write JUnit XML here")
+    args = parser.parse_args()
+    torch.set_num_threads(1)
+    cv2.setNumThreads(1)
+    suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__])
+    start = time.time()
+    result = unittest.TextTestRunner(verbosity=2, resultclass=JUnitResult).run(suite)
+    if args.xml:
+        write_junit(args.xml, result, time.time() - start, "learn_smoke_test_world_model")
+    return 0 if result.wasSuccessful() else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,323 @@
+#!/usr/bin/env python3
+"""Trains the world model (valerant_learn/world_net.py) on valerant_dataset shards
+rendered with `--every 1`, and exports it for OpenCV's DNN module. Runs the same on
+CPU and CUDA (bf16 autocast there).
+
+  train_world_model.py --train 'data/wm_train/*.zip' --val 'data/wm_eval/*.zip' --out runs/wm --minutes 12
+
+Each step draws windows of K context frames and --unroll frames to come, and runs
+the net autoregressively over them, feeding its own frames back as the backend does,
+so that it learns to live with its own errors; the loss is the mean L1 of every
+predicted frame plus a structure term (1 - SSIM). The kept weights are the last
+ones: --val is measured, never used to choose.
+
+Validation (and the figures of the model card) runs every candidate rollout of the
+--val shards from its first frame, the context that frame repeated, and reports PSNR
+and SSIM at frames 8, 16, 32, 57 and 97 against the true frames, next to two
+baselines: `repeat` (the context frame) and `flat` (the true frame's mean colour).
+
+Writes to --out: log.csv, world_model.pt, world_model.onnx (verified in cv2.dnn),
+metrics.json, curves.png, rollouts.png."""
+import argparse
+import csv
+import json
+import os
+import random
+import shlex
+import sys
+import time
+
+import numpy as np
+import torch
+
+from valerant_learn.shards import check_same_camera, load_shards
+from valerant_learn.training import device_name, expand_globs, learning_rate, pick_device, sha256
+from valerant_learn.world_data import WorldWindows
+from valerant_learn.world_export import export_world_onnx
+from valerant_learn.world_metrics import HORIZONS, horizon_table, ssim
+from valerant_learn.world_net import WorldNet, rollout
+from valerant_learn.world_plots import plot_world_curves, plot_rollouts
+
+WEIGHT_DECAY = 0.01
+GRAD_CLIP_NORM = 1.0
+SSIM_WEIGHT = 0.2
+VAL_WINDOWS = 256
+LOG_COLUMNS = ["step", "seconds", "unroll", "train_loss", "val_l1"] + [
+    "val_psnr_%d" % h for h in HORIZONS]
+
+
+def parse_args(argv):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--train", nargs="+", required=True, metavar="GLOB", help="training shards (zip)")
+    parser.add_argument("--val", nargs="+", required=True, metavar="GLOB",
+                        help="validation shards; their maps must not appear in --train")
+    parser.add_argument("--out", required=True, metavar="DIR", help="output folder (created)")
+    budget = parser.add_mutually_exclusive_group(required=True)
+    budget.add_argument("--minutes", type=float, help="wall-clock training budget")
+    budget.add_argument("--steps", type=int, help="number of optimiser steps")
+    parser.add_argument("--context", type=int, default=4, help="context frames K")
+    parser.add_argument("--unroll", type=int, default=8, help="frames each window predicts autoregressively")
+    parser.add_argument("--late-unroll", type=int, default=16,
+                        help="frames a window predicts in the last --late-fraction of the training")
+    parser.add_argument("--late-fraction", type=float, default=0.4)
+    parser.add_argument("--batch", type=int, default=32, help="windows a step")
+    parser.add_argument("--lr", type=float, default=1e-3, help="peak AdamW learning rate")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--device", choices=["auto", "cpu", "cuda"], default="auto")
+    parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
+    parser.add_argument("--workers", type=int, default=min(8, os.cpu_count() or 1),
+                        help="threads decoding the shards' images")
+    parser.add_argument("--max-val-rollouts", type=int, default=50,
+                        help="candidate rollouts of --val measured at the horizons")
+    args = parser.parse_args(argv)
+    for name in ("steps", "batch", "eval_every", "workers", "context", "unroll", "late_unroll",
+                 "max_val_rollouts"):
+        value = getattr(args, name)
+        if value is not None and value < 1:
+            parser.error("--%s must be at least 1" % name.replace("_", "-"))
+    if args.minutes is not None and not args.minutes > 0:
+        parser.error("--minutes must be positive")
+    if not args.lr > 0:
+        parser.error("--lr must be positive")
+    if not 0 <= args.late_fraction < 1:
+        parser.error("--late-fraction must be in [0, 1)")
+    return args
+
+
+def load_data(args):
+    train = load_shards(expand_globs(args.train, "--train"), args.workers)
+    val = load_shards(expand_globs(args.val, "--val"), args.workers)
+    shared = sorted(set(train["meta"]["maps"]) & set(val["meta"]["maps"]))
+    if shared:
+        raise ValueError("val maps overlap train maps: %s (val must measure maps the net never saw)"
+                         % ", ".join(shared))
+    check_same_camera("the train shards", train["meta"], "the val shards", val["meta"])
+    return train, val
+
+
+class WindowTable:
+    """Every window of one unroll length as index tensors on the device, so a batch is
+    a gather: context rows [S,K], target rows [S,T], motions [S,T,4]."""
+
+    def __init__(self, windows, unroll, device):
+        starts = windows.starts(unroll)
+        if not starts:
+            raise ValueError("no sequence is longer than %d frames: nothing to train on" % unroll)
+        context, targets, motions = [], [], []
+        for r, t in starts:
+            run = windows.runs[r]
+            context.append(run[[max(0, t - windows.context + 1 + k) for k in range(windows.context)]])
+            targets.append(run[t + 1:t + 1 + unroll])
+            motions.append(windows.motions[r][t + 1:t + 1 + unroll])
+        self.context = torch.from_numpy(np.stack(context)).to(device)
+        self.targets = torch.from_numpy(np.stack(targets)).to(device)
+        self.motions = torch.from_numpy(np.stack(motions)).to(device)
+        self.count = len(starts)
+
+
+def as_frames(rgb):
+    """uint8 [..., H, W, 3] -> float [..., 3, H, W] in [0,1]."""
+    return rgb.movedim(-1, -3).float().div(255)
+
+
+def mirror(context, targets, motions):
+    """The same windows seen in a mirror: images flipped left-right, strafe and yaw
+    negated (forward and pitch keep their sign)."""
+    sign = torch.tensor([1.0, -1.0, -1.0, 1.0], device=motions.device)
+    return context.flip(-1), targets.flip(-1), motions * sign
+
+
+def window_loss(model, rgb, table, picks, flip):
+    context = as_frames(rgb[table.context[picks]])
+    targets = as_frames(rgb[table.targets[picks]])
+    motions = table.motions[picks]
+    if flip is not None:
+        flipped = mirror(context[flip], targets[flip], motions[flip])
+        context, targets, motions = context.clone(), targets.clone(), motions.clone()
+        context[flip], targets[flip], motions[flip] = flipped
+    predicted = rollout(model, context, motions).float()
+    n, t = predicted.shape[:2]
+    flat_pred, flat_true = predicted.reshape(n * t, *predicted.shape[2:]), targets.reshape(n * t, *targets.shape[2:])
+    l1 = (flat_pred - flat_true).abs().mean()
+    return l1 + SSIM_WEIGHT * (1 - ssim(flat_pred, flat_true).mean()), l1
+
+
+def val_rollouts(windows, limit):
+    """The candidate rollouts of the val windows that start at their first frame
+    (kind 'rollout'), at most `limit`, spread over the list."""
+    chosen = [r for r, kind in enumerate(windows.kinds) if kind == "rollout"]
+    if len(chosen) > limit:
+        chosen = [chosen[i] for i in np.linspace(0, len(chosen) - 1, limit).astype(int)]
+    return chosen
+
+
+def generate(model, windows, run_index, device):
+    """The model's frames for a whole run from its first frame (context: that frame
+    repeated): float [T,3,H,W] on the CPU, T = run length - 1."""
+    run = windows.runs[run_index]
+    first = as_frames(torch.from_numpy(windows.rgb[run[0]]).to(device))
+    context = first[None, None].expand(1, windows.context, *first.shape).contiguous()
+    motions = torch.from_numpy(windows.motions[run_index][1:]).to(device)[None]
+    with torch.no_grad():
+        return rollout(model, context, motions)[0].float().cpu()
+
+
+def measure_horizons(model, windows, runs, device):
+    """horizon_table() of the model and both baselines over `runs`."""
+    model.eval()
+    entries = []
+    for r in runs:
+        run = windows.runs[r]
+        truth = as_frames(torch.from_numpy(windows.rgb[run[1:]]))
+        entries.append((generate(model, windows, r, device), truth, as_frames(torch.from_numpy(windows.rgb[run[0]]))))
+    model.train()
+    return horizon_table(entries)
+
+
+def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, out_dir):
+    decay = [p for p in model.parameters() if p.ndim > 1 and p.requires_grad]
+    no_decay = [p for p in model.parameters() if p.ndim <= 1]
+    optimizer = torch.optim.AdamW([{"params": decay, "weight_decay": WEIGHT_DECAY},
+                                   {"params": no_decay, "weight_decay": 0.0}], lr=args.lr)
+    generator = torch.Generator(device).manual_seed(args.seed)
+    val_picks = torch.linspace(0, val_table.count - 1, min(VAL_WINDOWS, val_table.count), device=device).long()
+    budget_s = args.minutes * 60 if args.minutes is not None else None
+    rows, step, loss_sum, loss_steps = [], 0, torch.zeros((), device=device), 0
+    start = time.time()
+    with open(os.path.join(out_dir, "log.csv"), "w", newline="") as log_file:
+        log = csv.DictWriter(log_file, LOG_COLUMNS)
+        log.writeheader()
+
+        def validate(unroll):
+            nonlocal loss_sum, loss_steps
+            model.eval()
+            with torch.no_grad():
+                _, val_l1 = window_loss(model, rgb["val"], val_table, val_picks, None)
+            model.train()
+            table = measure_horizons(model, windows_val, val_runs, device)
+            row = {"step": step, "seconds": round(time.time() - start, 2), "unroll": unroll,
+                   "train_loss": float(loss_sum) / max(1, loss_steps), "val_l1": float(val_l1)}
+            row.update({"val_psnr_%d" % h: table[str(h)]["model"]["psnr"] for h in HORIZONS})
+            loss_sum, loss_steps = torch.zeros((), device=device), 0
+            rows.append(row)
+            log.writerow(row)
+            log_file.flush()
+            print("step %d  %.0f s  unroll %d  lr %.2e  train loss %.4f  val L1 %.4f  PSNR %s" % (
+                step, row["seconds"], unroll, optimizer.param_groups[0]["lr"], row["train_loss"], row["val_l1"],
+                " ".join("%d:%.2f/%.2f/%.2f" % (h, table[str(h)]["model"]["psnr"], table[str(h)]["repeat"]["psnr"],
+                                                table[str(h)]["flat"]["psnr"]) for h in HORIZONS
+                         if table[str(h)]["rollouts"])), flush=True)
+
+        model.train()
+        unroll = args.unroll
+        while True:
+            progress = step / args.steps if budget_s is None else (time.time() - start) / budget_s
+            if step > 0 and progress >= 1:
+                break
+            unroll = args.late_unroll if progress >= 1 - args.late_fraction else args.unroll
+            table = tables[unroll]
+            for group in optimizer.param_groups:
+                group["lr"] = learning_rate(args.lr, progress)
+            picks = torch.randint(table.count, (args.batch,), generator=generator, device=device)
+            flip = torch.rand(args.batch, generator=generator, device=device) < 0.5
+            with torch.autocast(device_type=device.type, dtype=torch.bfloat16, enabled=device.type == "cuda"):
+                loss, _ = window_loss(model, rgb["train"], table, picks, flip)
+            optimizer.zero_grad(set_to_none=True)
+            loss.backward()
+            torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
+            optimizer.step()
+            loss_sum += loss.detach()
+            loss_steps += 1
+            step += 1
+            if step % args.eval_every == 0:
+                validate(unroll)
+        if loss_steps:
+            validate(unroll)
+    torch.save({"state_dict": {k: v.cpu() for k, v in model.state_dict().items()}, "context": model.context,
+                "height": model.height, "width": model.width, "step": step},
+               os.path.join(out_dir, "world_model.pt"))
+    return rows, step, time.time() - start
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = parse_args(argv)
+    random.seed(args.seed)
+    np.random.seed(args.seed)
+    torch.manual_seed(args.seed)
+    try:
+        device = pick_device(args.device)
+        train_data, val_data = load_data(args)
+        meta = train_data["meta"]
+        model = WorldNet(args.context, meta["height"], meta["width"])
+        windows = {"train": WorldWindows(train_data["rgb"], train_data, args.context),
+                   "val": WorldWindows(val_data["rgb"], val_data, args.context)}
+        unrolls = sorted({args.unroll, args.late_unroll})
+        tables = {u: WindowTable(windows["train"], u, device) for u in unrolls}
+        val_table = WindowTable(windows["val"], args.unroll, device)
+    except ValueError as error:
+        sys.exit("train_world_model: error: %s" % error)
+    os.makedirs(args.out, exist_ok=True)
+    for name, data in (("train", train_data), ("val", val_data)):
+        print("%s: %d frames in %d sequences from %d shards, maps %s" % (
+            name, len(data["kind"]), len(windows[name].runs), len(data["meta"]["shards"]),
+            ", ".join(data["meta"]["maps"])), flush=True)
+    parameters = sum(p.numel() for p in model.parameters())
+    print("model: %d parameters; device %s" % (parameters, device_name(device)), flush=True)
+    model = model.to(device)
+    rgb = {"train": torch.from_numpy(train_data["rgb"]).to(device), "val": torch.from_numpy(val_data["rgb"]).to(device)}
+    val_runs = val_rollouts(windows["val"], args.max_val_rollouts)
+
+    rows, steps, seconds = train(model, rgb, tables, val_table, windows["val"], val_runs, args, device, args.out)
+
+    horizons = measure_horizons(model, windows["val"], val_runs, device)
+    onnx_path = os.path.join(args.out, "world_model.onnx")
+    verify = torch.cat([as_frames(rgb["val"][val_table.context[:2]]).flatten(1, 2),
+                        val_table.motions[:2, 0, :, None, None].expand(-1, -1, meta["height"], meta["width"])], 1)
+    onnx_report = export_world_onnx(model, onnx_path, verify.cpu().numpy(), {
+        "train_maps": ",".join(meta["maps"]), "fx": meta["fx"], "fy": meta["fy"], "cx": meta["cx"], "cy": meta["cy"]})
+    print("exported %s; cv2.dnn vs torch max |diff| %.2e" % (onnx_path, onnx_report["max_abs_diff"]), flush=True)
+    metrics = {
+        "format": "valerant-world-model-1",
+        "horizons": horizons,
+        "val_rollouts": len(val_runs),
+        "parameters": parameters,
+        "context": args.context,
+        "unroll": args.unroll,
+        "late_unroll": args.late_unroll,
+        "input_width": meta["width"],
+        "input_height": meta["height"],
+        "steps": steps,
+        "train_seconds": round(seconds, 2),
+        "batch": args.batch,
+        "lr": args.lr,
+        "seed": args.seed,
+        "device": device_name(device),
+        "torch_version": torch.__version__,
+        "command_line": shlex.join([sys.argv[0]] + argv),
+        "train_frames": len(train_data["kind"]),
+        "train_sequences": len(windows["train"].runs),
+        "val_frames": len(val_data["kind"]),
+        "train_maps": meta["maps"],
+        "val_maps": val_data["meta"]["maps"],
+        "train_shards": meta["shards"],
+        "val_shards": val_data["meta"]["shards"],
+        "onnx_sha256": sha256(onnx_path),
+        "onnx_check": onnx_report,
+    }
+    with open(os.path.join(args.out, "metrics.json"), "w") as handle:
+        json.dump(metrics, handle, indent=1)
+    plot_world_curves(rows, os.path.join(args.out, "curves.png"))
+    samples = val_runs[:: max(1, len(val_runs) // 4)][:4]
+    model.eval()
+    plot_rollouts([(windows["val"].maps[r], generate(model, windows["val"], r, device),
+                    as_frames(torch.from_numpy(windows["val"].rgb[windows["val"].runs[r][1:]]))) for r in samples],
+                  os.path.join(args.out, "rollouts.png"))
+    print("done: %d steps in %.0f s; PSNR model/repeat/flat %s; wrote %s" % (
+        steps, seconds, " ".join("%s:%.2f/%.2f/%.2f" % (h, v["model"]["psnr"], v["repeat"]["psnr"], v["flat"]["psnr"])
+                                 for h, v in horizons.items() if v["rollouts"]), args.out), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

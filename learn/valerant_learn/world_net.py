@@ -1,0 +1,146 @@
+"""The world model network: one step of an action-conditioned next-frame predictor,
+run autoregressively (the C++ backend feeds each output back as the newest context
+frame).
+
+Predicting pixels directly blurs within a few steps; most of what the camera sees
+next is what it saw last, moved. So the net predicts a warp of the newest frame (a
+flow field in pixels), a mask, and a fill colour for what the warp cannot show
+(disocclusions, the image border a turn reveals):
+
+  next = m * last(x + dx, y + dy) + (1 - m) * fill
+
+The warp is done outside the net (apply_warp here in training, cv::remap in C++),
+because OpenCV 4.6's ONNX importer has no GridSample.
+
+Input "frames_and_motion": float32 [N, 3K+4, H, W]: K RGB frames in [0,1], oldest
+first, then four constant planes of the commanded motion (forward_units,
+strafe_units, yaw_deg, pitch_deg; raw MotionStep values, scaled inside the net).
+Output "warp_and_fill": float32 [N, 6, H, W]: dx, dy (pixels), m in [0,1], fill RGB
+in [0,1].
+
+A U-Net of plain 3x3 conv + BatchNorm + ReLU (ConvBN, folded for export) from half
+resolution down to 1/16 and back to half, whose head is upsampled to full
+resolution; the motion planes, average-pooled, join every encoder stage, and
+row/column coordinate channels join the input (a turn moves the image's edge columns
+differently from its centre)."""
+import torch
+from torch import nn
+import torch.nn.functional as F
+
+from .depth_net import AppendCoordinates, ConvBN
+
+INPUT_NAME = "frames_and_motion"
+OUTPUT_NAME = "warp_and_fill"
+MOTION_CHANNELS = 4
+# Typical per-frame magnitudes: w moves 256/57 = 4.5 units, j/l in place turn
+# 90/57 = 1.6 deg; dividing by them puts the motion planes near 1.
+MOTION_SCALE = (1 / 4.5, 1 / 4.5, 1 / 1.6, 1 / 1.6)
+ENCODER_CHANNELS = (32, 64, 96, 160)
+# The flow head's output is multiplied by this many pixels, so that its weights
+# stay in the usual range for the largest flows of a frame (a 1.6 deg turn moves the
+# image by about 1.8 px at 128 px and 90 deg field of view; a step forward, less).
+FLOW_SCALE_PX = 4.0
+# The mask starts on the warp (sigmoid(4) = 0.98): the untrained net repeats the last frame.
+MASK_INITIAL_LOGIT = 4.0
+
+
+class ScaleMotion(nn.Module):
+    """Multiplies each motion plane by its MOTION_SCALE factor: a fixed depthwise 1x1
+    conv (a Mul by a [1,4,1,1] constant would need a broadcast OpenCV 4.6 may not fuse)."""
+
+    def __init__(self):
+        super().__init__()
+        self.conv = nn.Conv2d(MOTION_CHANNELS, MOTION_CHANNELS, 1, groups=MOTION_CHANNELS, bias=False)
+        with torch.no_grad():
+            self.conv.weight.copy_(torch.tensor(MOTION_SCALE).view(MOTION_CHANNELS, 1, 1, 1))
+        self.conv.weight.requires_grad_(False)
+
+    def forward(self, motion):
+        return self.conv(motion)
+
+
+class WorldNet(nn.Module):
+    def __init__(self, context, height, width):
+        super().__init__()
+        if height % 16 or width % 16:
+            raise ValueError("WorldNet: %dx%d is not a multiple of 16 in both sides" % (width, height))
+        self.context, self.height, self.width = context, height, width
+        self.scale_motion = ScaleMotion()
+        self.coordinates = AppendCoordinates(height, width)
+        c = ENCODER_CHANNELS
+        inputs = 3 * context + MOTION_CHANNELS + 2
+        self.encoder = nn.ModuleList([nn.Sequential(ConvBN(inputs, c[0], 3, stride=2), ConvBN(c[0], c[0], 3))])
+        for i in range(1, len(c)):
+            self.encoder.append(nn.Sequential(ConvBN(c[i - 1] + MOTION_CHANNELS, c[i], 3, stride=2),
+                                              ConvBN(c[i], c[i], 3)))
+        self.bottleneck = ConvBN(c[-1], c[-1], 3)
+        self.decoder = nn.ModuleList([ConvBN(c[i] + c[i - 1], c[i - 1], 3) for i in range(len(c) - 1, 0, -1)])
+        self.head = nn.Conv2d(c[0], 6, 3, padding=1)
+        with torch.no_grad():
+            self.head.weight.mul_(0.1)
+            self.head.bias.zero_()
+            self.head.bias[2] = MASK_INITIAL_LOGIT
+
+    def forward(self, frames_and_motion):
+        frames = frames_and_motion[:, :3 * self.context]
+        motion = self.scale_motion(frames_and_motion[:, 3 * self.context:])
+        x = self.coordinates(torch.cat([frames, motion], 1))
+        skips = []
+        for i, stage in enumerate(self.encoder):
+            if i > 0:
+                x = torch.cat([x, motion], 1)
+            x = stage(x)
+            # The motion at the resolution the next stage's stride-2 conv reads.
+            motion = F.avg_pool2d(motion, 2)
+            skips.append(x)
+        x = self.bottleneck(x)
+        for stage, skip in zip(self.decoder, reversed(skips[:-1])):
+            x = F.interpolate(x, scale_factor=2.0, mode="bilinear", align_corners=False)
+            x = stage(torch.cat([x, skip], 1))
+        # The head works at half resolution: flow, mask and fill are smooth, and the
+        # warp carries the detail.
+        out = F.interpolate(self.head(x), scale_factor=2.0, mode="bilinear", align_corners=False)
+        flow = out[:, 0:2] * FLOW_SCALE_PX
+        mask = torch.sigmoid(out[:, 2:3])
+        fill = torch.sigmoid(out[:, 3:6])
+        return torch.cat([flow, mask, fill], 1)
+
+
+def apply_warp(last, warp_and_fill):
+    """The next frame from the newest context frame `last` (float [N,3,H,W] in [0,1])
+    and the net's output: bilinear sampling at (x+dx, y+dy) with the border
+    replicated, blended with the fill by the mask, clamped to [0,1]. The same
+    arithmetic as the C++ backend's cv::remap(INTER_LINEAR, BORDER_REPLICATE)."""
+    n, _, h, w = last.shape
+    flow, mask, fill = warp_and_fill[:, 0:2], warp_and_fill[:, 2:3], warp_and_fill[:, 3:6]
+    ys, xs = torch.meshgrid(torch.arange(h, device=last.device, dtype=last.dtype),
+                            torch.arange(w, device=last.device, dtype=last.dtype), indexing="ij")
+    gx = (xs + flow[:, 0]) * (2.0 / (w - 1)) - 1.0
+    gy = (ys + flow[:, 1]) * (2.0 / (h - 1)) - 1.0
+    warped = F.grid_sample(last, torch.stack([gx, gy], -1), mode="bilinear", padding_mode="border",
+                           align_corners=True)
+    return (mask * warped + (1.0 - mask) * fill).clamp(0.0, 1.0)
+
+
+def motion_planes(motion, height, width):
+    """float [N,4] motions as [N,4,H,W] constant planes."""
+    return motion[:, :, None, None].expand(-1, -1, height, width)
+
+
+def step(model, context, motion):
+    """One autoregressive step. context: float [N,K,3,H,W] in [0,1], oldest first;
+    motion: float [N,4]. Returns (next frame [N,3,H,W], context for the step after)."""
+    n, k, _, h, w = context.shape
+    x = torch.cat([context.reshape(n, 3 * k, h, w), motion_planes(motion, h, w)], 1)
+    frame = apply_warp(context[:, -1], model(x))
+    return frame, torch.cat([context[:, 1:], frame[:, None]], 1)
+
+
+def rollout(model, context, motions):
+    """Autoregressive frames for motions float [N,T,4] from context [N,K,3,H,W]:
+    float [N,T,3,H,W]."""
+    frames = []
+    for t in range(motions.shape[1]):
+        frame, context = step(model, context, motions[:, t])
+        frames.append(frame)
+    return torch.stack(frames, 1)
