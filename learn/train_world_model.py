@@ -65,12 +65,17 @@ def parse_args(argv):
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--device", choices=["auto", "cpu", "cuda"], default="auto")
     parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
+    parser.add_argument("--log-every", type=int, default=100, metavar="N",
+                        help="print the mean training loss of the last N steps")
+    parser.add_argument("--precision", choices=["bf16", "fp32"], default="fp32",
+                        help="on CUDA: fp32, or bf16 autocast, which diverged here within 100 steps "
+                             "(models/world_model.md); the CPU always runs fp32")
     parser.add_argument("--workers", type=int, default=min(8, os.cpu_count() or 1),
                         help="threads decoding the shards' images")
     parser.add_argument("--max-val-rollouts", type=int, default=50,
                         help="candidate rollouts of --val measured at the horizons")
     args = parser.parse_args(argv)
-    for name in ("steps", "batch", "eval_every", "workers", "context", "unroll", "late_unroll",
+    for name in ("steps", "batch", "eval_every", "log_every", "workers", "context", "unroll", "late_unroll",
                  "max_val_rollouts"):
         value = getattr(args, name)
         if value is not None and value < 1:
@@ -220,7 +225,8 @@ def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, ou
                 group["lr"] = learning_rate(args.lr, progress)
             picks = torch.randint(table.count, (args.batch,), generator=generator, device=device)
             flip = torch.rand(args.batch, generator=generator, device=device) < 0.5
-            with torch.autocast(device_type=device.type, dtype=torch.bfloat16, enabled=device.type == "cuda"):
+            with torch.autocast(device_type=device.type, dtype=torch.bfloat16,
+                                enabled=device.type == "cuda" and args.precision == "bf16"):
                 loss, _ = window_loss(model, rgb["train"], table, picks, flip)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
@@ -229,6 +235,9 @@ def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, ou
             loss_sum += loss.detach()
             loss_steps += 1
             step += 1
+            if step % args.log_every == 0:
+                print("step %d  %.0f s  train loss %.4f" % (step, time.time() - start, float(loss_sum) / loss_steps),
+                      flush=True)
             if step % args.eval_every == 0:
                 validate(unroll)
         if loss_steps:
@@ -290,6 +299,7 @@ def main(argv=None):
         "steps": steps,
         "train_seconds": round(seconds, 2),
         "batch": args.batch,
+        "precision": args.precision if device.type == "cuda" else "fp32",
         "lr": args.lr,
         "seed": args.seed,
         "device": device_name(device),
