@@ -21,6 +21,7 @@ import cv2
 import numpy as np
 import torch
 
+import train_world_model
 from split_shard import cut_points, split_shard
 from valerant_learn.junit import JUnitResult, write_junit
 from valerant_learn.shards import load_shards, write_shard
@@ -162,6 +163,12 @@ class WorldNetTest(unittest.TestCase):
         self.assertEqual(tuple(frames.shape), (1, 5, 3, 32, 48))
         self.assertTrue(0.97 < float(out[:, 2].mean()) < 0.99)
 
+    def test_full_resolution_head(self):
+        model = WorldNet(2, 32, 48, full_res_head=True).eval()
+        with torch.no_grad():
+            frames = rollout(model, torch.rand(1, 2, 3, 32, 48), torch.zeros(1, 3, 4))
+        self.assertEqual(tuple(frames.shape), (1, 3, 3, 32, 48))
+
     def test_rejects_a_size_not_a_multiple_of_16(self):
         with self.assertRaises(ValueError):
             WorldNet(4, 90, 128)
@@ -183,6 +190,17 @@ class SplitShardTest(unittest.TestCase):
         self.assertEqual([len(load_shards([p])["index"]) for p in paths], [12, 24])
 
 
+class GradientDifferenceTest(unittest.TestCase):
+    def test_blurred_step_edge(self):
+        # True row 0 0 1 1, predicted 0 .25 .75 1: horizontal differences 0 1 0 against
+        # .25 .5 .25, |.| = .25 .5 .25, mean 1/3 over the 3 differences of each of the two
+        # rows; vertical differences are all 0: the term is 1/3.
+        true = torch.tensor([[0.0, 0.0, 1.0, 1.0]] * 2)[None, None]
+        predicted = torch.tensor([[0.0, 0.25, 0.75, 1.0]] * 2)[None, None]
+        self.assertAlmostEqual(float(train_world_model.gradient_difference(predicted, true)), 1 / 3, places=6)
+        self.assertEqual(float(train_world_model.gradient_difference(true, true)), 0.0)
+
+
 class TrainWorldModelTest(unittest.TestCase):
     def test_rejects_val_maps_in_train(self):
         run = self.train("never", ["--val", VAL_SHARD, TRAIN_SHARD])
@@ -191,7 +209,7 @@ class TrainWorldModelTest(unittest.TestCase):
 
     def test_end_to_end_on_cpu(self):
         out = os.path.join(WORK, "run")
-        run = self.train("run", ["--val", VAL_SHARD])
+        run = self.train("run", ["--val", VAL_SHARD, "--full-res-head", "--gradient-weight", "1"])
         self.assertEqual(run.returncode, 0, run.stdout)
         for name in ("log.csv", "world_model.pt", "world_model.onnx", "metrics.json", "curves.png", "rollouts.png"):
             self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
@@ -201,6 +219,7 @@ class TrainWorldModelTest(unittest.TestCase):
         self.assertEqual(metrics["horizons"]["8"]["rollouts"], 1)
         self.assertEqual(metrics["horizons"]["16"]["rollouts"], 0)
         self.assertLess(metrics["onnx_check"]["max_abs_diff"], 1e-3)
+        self.assertEqual((metrics["full_res_head"], metrics["gradient_weight"]), (True, 1.0))
         with open(os.path.join(out, "log.csv")) as handle:
             self.assertEqual([line.split(",")[0] for line in handle.read().split()], ["step", "2", "4"])
 

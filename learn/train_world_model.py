@@ -62,6 +62,10 @@ def parse_args(argv):
     parser.add_argument("--late-fraction", type=float, default=0.4)
     parser.add_argument("--batch", type=int, default=32, help="windows a step")
     parser.add_argument("--lr", type=float, default=1e-3, help="peak AdamW learning rate")
+    parser.add_argument("--full-res-head", action="store_true",
+                        help="the net's head at full resolution, seeing the newest frame (world_net.py)")
+    parser.add_argument("--gradient-weight", type=float, default=0.0,
+                        help="weight of the image-gradient difference term of the loss (against blur)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--device", choices=["auto", "cpu", "cuda"], default="auto")
     parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
@@ -84,6 +88,8 @@ def parse_args(argv):
         parser.error("--minutes must be positive")
     if not args.lr > 0:
         parser.error("--lr must be positive")
+    if not args.gradient_weight >= 0:
+        parser.error("--gradient-weight must be at least 0")
     if not 0 <= args.late_fraction < 1:
         parser.error("--late-fraction must be in [0, 1)")
     return args
@@ -132,7 +138,15 @@ def mirror(context, targets, motions):
     return context.flip(-1), targets.flip(-1), motions * sign
 
 
-def window_loss(model, rgb, table, picks, flip):
+def gradient_difference(predicted, true):
+    """Mean |horizontal and vertical differences of predicted - those of true|: zero for
+    a perfect frame, large for a blurred one whose edges are flattened."""
+    dx = (predicted[..., :, 1:] - predicted[..., :, :-1]) - (true[..., :, 1:] - true[..., :, :-1])
+    dy = (predicted[..., 1:, :] - predicted[..., :-1, :]) - (true[..., 1:, :] - true[..., :-1, :])
+    return dx.abs().mean() + dy.abs().mean()
+
+
+def window_loss(model, rgb, table, picks, flip, gradient_weight=0.0):
     context = as_frames(rgb[table.context[picks]])
     targets = as_frames(rgb[table.targets[picks]])
     motions = table.motions[picks]
@@ -144,7 +158,10 @@ def window_loss(model, rgb, table, picks, flip):
     n, t = predicted.shape[:2]
     flat_pred, flat_true = predicted.reshape(n * t, *predicted.shape[2:]), targets.reshape(n * t, *targets.shape[2:])
     l1 = (flat_pred - flat_true).abs().mean()
-    return l1 + SSIM_WEIGHT * (1 - ssim(flat_pred, flat_true).mean()), l1
+    loss = l1 + SSIM_WEIGHT * (1 - ssim(flat_pred, flat_true).mean())
+    if gradient_weight > 0:
+        loss = loss + gradient_weight * gradient_difference(flat_pred, flat_true)
+    return loss, l1
 
 
 def val_rollouts(windows, limit):
@@ -227,7 +244,7 @@ def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, ou
             flip = torch.rand(args.batch, generator=generator, device=device) < 0.5
             with torch.autocast(device_type=device.type, dtype=torch.bfloat16,
                                 enabled=device.type == "cuda" and args.precision == "bf16"):
-                loss, _ = window_loss(model, rgb["train"], table, picks, flip)
+                loss, _ = window_loss(model, rgb["train"], table, picks, flip, args.gradient_weight)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
@@ -243,6 +260,7 @@ def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, ou
         if loss_steps:
             validate(unroll)
     torch.save({"state_dict": {k: v.cpu() for k, v in model.state_dict().items()}, "context": model.context,
+                "full_res_head": model.full_res is not None,
                 "height": model.height, "width": model.width, "step": step},
                os.path.join(out_dir, "world_model.pt"))
     return rows, step, time.time() - start
@@ -258,7 +276,7 @@ def main(argv=None):
         device = pick_device(args.device)
         train_data, val_data = load_data(args)
         meta = train_data["meta"]
-        model = WorldNet(args.context, meta["height"], meta["width"])
+        model = WorldNet(args.context, meta["height"], meta["width"], args.full_res_head)
         windows = {"train": WorldWindows(train_data["rgb"], train_data, args.context),
                    "val": WorldWindows(val_data["rgb"], val_data, args.context)}
         unrolls = sorted({args.unroll, args.late_unroll})
@@ -294,6 +312,8 @@ def main(argv=None):
         "context": args.context,
         "unroll": args.unroll,
         "late_unroll": args.late_unroll,
+        "full_res_head": args.full_res_head,
+        "gradient_weight": args.gradient_weight,
         "input_width": meta["width"],
         "input_height": meta["height"],
         "steps": steps,

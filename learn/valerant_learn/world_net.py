@@ -40,6 +40,8 @@ ENCODER_CHANNELS = (32, 64, 96, 160)
 # stay in the usual range for the largest flows of a frame (a 1.6 deg turn moves the
 # image by about 1.8 px at 128 px and 90 deg field of view; a step forward, less).
 FLOW_SCALE_PX = 4.0
+# Channels of the full-resolution head (full_res_head).
+FULL_RES_CHANNELS = 16
 # The mask starts on the warp (sigmoid(4) = 0.98): the untrained net repeats the last frame.
 MASK_INITIAL_LOGIT = 4.0
 
@@ -60,7 +62,11 @@ class ScaleMotion(nn.Module):
 
 
 class WorldNet(nn.Module):
-    def __init__(self, context, height, width):
+    """full_res_head: the head works at full resolution on the upsampled features and
+    the newest frame, so that the fill can carry detail (v2); without it the head works
+    at half resolution and is upsampled (v1)."""
+
+    def __init__(self, context, height, width, full_res_head=False):
         super().__init__()
         if height % 16 or width % 16:
             raise ValueError("WorldNet: %dx%d is not a multiple of 16 in both sides" % (width, height))
@@ -75,7 +81,8 @@ class WorldNet(nn.Module):
                                               ConvBN(c[i], c[i], 3)))
         self.bottleneck = ConvBN(c[-1], c[-1], 3)
         self.decoder = nn.ModuleList([ConvBN(c[i] + c[i - 1], c[i - 1], 3) for i in range(len(c) - 1, 0, -1)])
-        self.head = nn.Conv2d(c[0], 6, 3, padding=1)
+        self.full_res = ConvBN(c[0] + 3, FULL_RES_CHANNELS, 3) if full_res_head else None
+        self.head = nn.Conv2d(FULL_RES_CHANNELS if full_res_head else c[0], 6, 3, padding=1)
         with torch.no_grad():
             self.head.weight.mul_(0.1)
             self.head.bias.zero_()
@@ -97,9 +104,12 @@ class WorldNet(nn.Module):
         for stage, skip in zip(self.decoder, reversed(skips[:-1])):
             x = F.interpolate(x, scale_factor=2.0, mode="bilinear", align_corners=False)
             x = stage(torch.cat([x, skip], 1))
-        # The head works at half resolution: flow, mask and fill are smooth, and the
-        # warp carries the detail.
-        out = F.interpolate(self.head(x), scale_factor=2.0, mode="bilinear", align_corners=False)
+        if self.full_res is not None:
+            x = F.interpolate(x, scale_factor=2.0, mode="bilinear", align_corners=False)
+            out = self.head(self.full_res(torch.cat([x, frames[:, -3:]], 1)))
+        else:
+            # Flow, mask and fill are smooth, and the warp carries the detail.
+            out = F.interpolate(self.head(x), scale_factor=2.0, mode="bilinear", align_corners=False)
         flow = out[:, 0:2] * FLOW_SCALE_PX
         mask = torch.sigmoid(out[:, 2:3])
         fill = torch.sigmoid(out[:, 3:6])
