@@ -44,6 +44,10 @@ class WorldModelNet {
   const std::string& path() const { return path_; }
 
  private:
+  // One forward pass of a [1,3K+4,H,W] blob; the [1,6,H,W] output as its own copy.
+  // Throws InputError naming the model when it cannot run or gives another shape.
+  cv::Mat forward(const cv::Mat& blob);
+
   std::string path_;
   int width_;
   int height_;
