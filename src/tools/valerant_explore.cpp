@@ -114,6 +114,8 @@ int main(int argc, char** argv) {
       throw tools::UsageError("--image", "--resume starts from the run's own screenshot.png; leave out --image");
     if (!image.empty() && config.world.backend != "learned")
       throw tools::UsageError("--image " + image, "starts the learned world only: add --set world.backend=learned");
+    if (!image.empty() && config.slam.backend == "oracle")
+      throw tools::UsageError("--image " + image, "has no ground truth for the oracle SLAM: use --slam visual");
     const std::string kept_screenshot = out + "/screenshot.png";
     const std::string screenshot =
         start == RunStart::kResume ? (fs::exists(kept_screenshot) ? kept_screenshot : "") : image;
