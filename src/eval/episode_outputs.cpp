@@ -136,6 +136,7 @@ nlohmann::json loopClosures(const Episode& episode) {
 
 nlohmann::json runReportHeader(const std::string& tool, const Config& config) {
   return {{"tool", tool},
+          {"world", config.world.backend},
           {"map", config.world.map},
           {"spawn", config.world.spawn},
           {"slam", config.slam.backend},

@@ -153,7 +153,11 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
     nlohmann::json report = runReportHeader("valerant_explore", config);
-    if (!screenshot.empty()) report["screenshot"] = screenshot;
+    if (!screenshot.empty()) {  // no level: the configuration's map and spawn were not used
+      report["screenshot"] = screenshot;
+      report["map"] = nullptr;
+      report["spawn"] = nullptr;
+    }
     AppendOnlyLog decisions(out + "/decisions.jsonl", start == RunStart::kResume);
     episode.runUntilDone(
         [&](const StepRecord& r) {

@@ -499,7 +499,7 @@ class LearnedWorldEpisodes(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        for name in ("valerant_explore", "valerant_render"):
+        for name in ("valerant_explore", "valerant_render", "valerant_export"):
             if not os.access(tool(name), os.X_OK):
                 raise unittest.SkipTest(tool(name) + " is not built")
         cls.scratch = tempfile.mkdtemp(prefix="valerant_learned_")
@@ -542,10 +542,17 @@ class LearnedWorldEpisodes(unittest.TestCase):
         self.assertIsNone(report["ground_truth"])
         self.assertIsNone(report["frames_rendered"])
         self.assertEqual(report["screenshot"], shot)
+        self.assertEqual(report["world"], "learned")
+        self.assertIsNone(report["map"])  # no level
         self.assertFalse(os.path.exists(os.path.join(out, "gt_trajectory.txt")))
         self.assertTrue(os.path.isfile(os.path.join(out, "screenshot.png")))
         self.assertNotIn("| observed ", err)  # no coverage without ground truth
         self.assertIsNone(json.loads(line)["ground_truth"])
+        # The run exports like any other; its walkable area has nothing to be scored against.
+        exported = os.path.join(self.scratch, "screenshot_export")
+        status, line, err = run([tool("valerant_export"), "--run", out, "--out", exported, "--formats", "walkable"])
+        self.assertEqual(status, 0, err)
+        self.assertFalse(json.loads(line)["ground_truth"]["available"])
 
     def test_bad_image_and_image_without_the_learned_backend_are_errors_naming_them(self):
         out = os.path.join(self.scratch, "bad")

@@ -19,7 +19,7 @@
 namespace valerant {
 
 // The fields every run's report.json starts with: the tool that ran it and the run's
-// map, spawn, SLAM, policy, seed, budget and switches.
+// world backend, map, spawn, SLAM, policy, seed, budget and switches.
 nlohmann::json runReportHeader(const std::string& tool, const Config& config);
 
 // After a step that changed the map (a commit or a rewind), the map of the committed
