@@ -147,6 +147,10 @@ class Explorer {
       // The learned world started from a screenshot has no level, whatever world.map says:
       // its frames come without truth, and so does the report.
       const bool no_truth = config.world.backend == "learned" && world_.context().truth.empty();
+      if (no_truth) {  // as valerant_explore --image reports it: no level was explored
+        report["map"] = nullptr;
+        report["spawn"] = nullptr;
+      }
       writeEpisodeOutputs(episode, no_truth ? nullptr : truth_map_.get(), out, true, report);
       writeRunReport(out, report);
       for (const auto& f : report["files"]) result.map_files.push_back(out + "/" + f.get<std::string>());

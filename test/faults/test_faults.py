@@ -579,6 +579,36 @@ class LearnedWorldEpisodes(unittest.TestCase):
         self.assertIn("/nonexistent/wm.onnx: world model file does not exist", err)
         self.assertFalse(os.path.exists(out), "nothing is made before the world loads")
 
+    def test_graph_episode_from_a_screenshot(self):
+        # explore.launch with the learned world served by world_model_server from a PNG
+        # the engine rendered: the graph is unchanged, the report has no ground truth.
+        rendered = os.path.join(self.scratch, "graph_render")
+        status, _, err = run([tool("valerant_render"), "--map", "oa_dm1", "--spawn", "0", "--candidate", "q:1",
+                              "--out", rendered])
+        self.assertEqual(status, 0, err)
+        out = os.path.join(self.scratch, "graph")
+        port = str(13000 + os.getpid() % 1000)
+        launch = subprocess.Popen(["roslaunch", "-p", port, "valerant", "explore.launch", "budget:=2",
+                                   "image:=" + os.path.join(rendered, "spawn.png"), "output_dir:=" + out,
+                                   "set:=world.backend=learned world.learned.model=" + self.MODEL],
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                  env=dict(os.environ, ROS_MASTER_URI="http://localhost:" + port),
+                                  start_new_session=True)
+        try:
+            output, _ = launch.communicate(timeout=TIMEOUT)
+        finally:
+            if launch.poll() is None:
+                os.killpg(launch.pid, signal.SIGINT)
+                launch.wait(timeout=60)
+        self.assertIn("learned world from screenshot", output)
+        report = complete_report(out)
+        self.assertIsNotNone(report, output)
+        self.assertEqual(report["world"], "learned")
+        self.assertEqual(report["committed_steps"], 2, output)
+        self.assertGreater(report["map_points"], 0, output)
+        self.assertIsNone(report["ground_truth"])
+        self.assertIsNone(report["map"])
+
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
