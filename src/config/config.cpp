@@ -133,7 +133,7 @@ class Section {
 };
 
 void readWorld(Section s, WorldConfig& w) {
-  s.choice("backend", w.backend, {"quake3", "bag"});
+  s.choice("backend", w.backend, {"quake3", "bag", "learned"});
   s.string("map", w.map);
   s.number("spawn", w.spawn, 0, 1000);
   s.number("width", w.width, 32, 4096);
@@ -152,6 +152,12 @@ void readWorld(Section s, WorldConfig& w) {
   d.number("exposure_flicker", w.degradation.exposure_flicker, 0.0, 0.9);
   d.number("jitter_px", w.degradation.jitter_px, 0.0, 50.0);
   d.finish();
+  Section l = s.child("learned");
+  l.string("model", w.learned.model);
+  l.number("width", w.learned.width, 8, 4096);
+  l.number("height", w.learned.height, 8, 4096);
+  l.number("context_frames", w.learned.context_frames, 1, 64);
+  l.finish();
   s.finish();
 }
 

@@ -136,6 +136,7 @@ nlohmann::json loopClosures(const Episode& episode) {
 
 nlohmann::json runReportHeader(const std::string& tool, const Config& config) {
   return {{"tool", tool},
+          {"world", config.world.backend},
           {"map", config.world.map},
           {"spawn", config.world.spawn},
           {"slam", config.slam.backend},
@@ -180,12 +181,16 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   for (size_t i = 0; i < episode.trajectory().size(); ++i) slam_poses.push_back({double(i), episode.trajectory()[i]});
   for (size_t i = 0; i < episode.truth().size(); ++i) truth_poses.push_back({double(i), episode.truth()[i].camera_to_world});
   writeTumTrajectory(out + "/trajectory.txt", slam_poses);
-  writeTumTrajectory(out + "/gt_trajectory.txt", truth_poses);
+  // A world without ground truth (the learned world from a screenshot) has no true path.
+  const bool has_truth = !episode.truth().empty();
+  if (has_truth) writeTumTrajectory(out + "/gt_trajectory.txt", truth_poses);
   cv::Mat topdown = drawTopdown(cloud, episode.grid(), episode.trajectory(), episode.history(), episode.failed(),
                                 config.collision, kTopdownPixelsPerCell);
   cv::cvtColor(topdown, topdown, cv::COLOR_RGB2BGR);
   writeImageAtomically(out + "/topdown.png", topdown);
-  files.insert(files.end(), {"trajectory.txt", "gt_trajectory.txt", "topdown.png", "decisions.jsonl", "report.json"});
+  files.push_back("trajectory.txt");
+  if (has_truth) files.push_back("gt_trajectory.txt");
+  files.insert(files.end(), {"topdown.png", "decisions.jsonl", "report.json"});
   // The player's view at the end, for viewers of the run (run_publisher's camera image).
   if (cv::Mat view = episode.currentView(); !view.empty()) {
     cv::cvtColor(view, view, cv::COLOR_RGB2BGR);
@@ -208,14 +213,17 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   report["map_points"] = cloud.size();
   report["stage_seconds"] = toJson(total);
   report["wall_seconds"] = wall;
-  report["frames_rendered"] = [&] {
+  // Counted from the frames' truth: null (not recorded) without it.
+  report["frames_rendered"] = nullptr;
+  if (has_truth) {
     size_t n = 0;
     for (const auto& s : episode.history())
       for (const auto& c : s.candidates) n += c.truth.size();
-    return n;
-  }();
+    report["frames_rendered"] = n;
+  }
   report["loop_closures"] = loopClosures(episode);
-  if (map) report["ground_truth"] = groundTruth(episode, *map, cloud);
+  // null: no ground truth (no engine map: the learned world from a screenshot, a bag).
+  report["ground_truth"] = map ? groundTruth(episode, *map, cloud) : nlohmann::json();
 }
 
 void writeRunReport(const std::string& out, const nlohmann::json& report) {

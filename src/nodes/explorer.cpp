@@ -70,12 +70,13 @@ class Explorer {
     pose_ = nh.advertise<geometry_msgs::PoseStamped>("camera/pose", 1);
     timer_ = nh.createTimer(::ros::Duration(1.0 / valerant::bridge::requiredDouble(pnh, "publish_rate_hz")),
                             [this](const ::ros::TimerEvent&) { publishPose(); });
-    if (config_.world.backend == "quake3" || config_.world.backend == "bag") {
-      try {  // ground truth for the report; the engine map is only read, never rendered
-        truth_map_ = quake3::loadQuake3Map(config_.world.map, config_.world.patch_level);
-      } catch (const std::exception& e) {
-        ROS_WARN_STREAM("explorer: no ground truth for the report: " << e.what());
-      }
+    // Every backend names an engine map: the world itself, a recording of it, or the
+    // learned world's truth shadow (unless the learned world started from a screenshot:
+    // see run()).
+    try {  // ground truth for the report; the engine map is only read, never rendered
+      truth_map_ = quake3::loadQuake3Map(config_.world.map, config_.world.patch_level);
+    } catch (const std::exception& e) {
+      ROS_WARN_STREAM("explorer: no ground truth for the report: " << e.what());
     }
     server_.start();
   }
@@ -143,7 +144,14 @@ class Explorer {
       }
       result.preempted = !episode.finished();
       report["interrupted"] = result.preempted;
-      writeEpisodeOutputs(episode, truth_map_.get(), out, true, report);
+      // The learned world started from a screenshot has no level, whatever world.map says:
+      // its frames come without truth, and so does the report.
+      const bool no_truth = config.world.backend == "learned" && world_.context().truth.empty();
+      if (no_truth) {  // as valerant_explore --image reports it: no level was explored
+        report["map"] = nullptr;
+        report["spawn"] = nullptr;
+      }
+      writeEpisodeOutputs(episode, no_truth ? nullptr : truth_map_.get(), out, true, report);
       writeRunReport(out, report);
       for (const auto& f : report["files"]) result.map_files.push_back(out + "/" + f.get<std::string>());
       result.committed_steps = static_cast<uint32_t>(episode.committedSteps());

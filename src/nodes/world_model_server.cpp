@@ -1,11 +1,13 @@
-// world_model_server: serves a WorldModel (backend quake3 or bag) to the graph.
+// world_model_server: serves a WorldModel (backend quake3, bag or learned) to the graph.
 //   action   ~rollout {checkpoint_id, candidate}: frames stream on branch/<c>/frames as
 //            lossless PNG (and raw on branch/<c>/image for viewers); the result carries
 //            ids and truth poses
 //   services ~checkpoint ~restore ~drop ~commit ~reset ~get_rollout
 //   latched  ~camera_info, ~context (the episode's starting frames, for recordings)
-//   periodic camera/image (committed view), tf gt_world -> gt_camera (engine truth)
-// Private parameters: bag, bag_prefix (bag backend), publish_rate_hz, frame_queue,
+//   periodic camera/image (committed view), tf gt_world -> gt_camera (engine truth, when
+//            the world has it)
+// Private parameters: bag, bag_prefix (bag backend), image (learned backend: start from
+// this screenshot, no ground truth; empty: from the engine spawn), publish_rate_hz, frame_queue,
 // wait_for_subscribers, subscriber_timeout_s. A backend that fails to load (a corrupt
 // bag, an unknown map) is logged and every request is answered with that error.
 #include <actionlib/server/simple_action_server.h>
@@ -32,8 +34,8 @@
 #include "valerant/ros/graph_names.h"
 #include "valerant/ros/guarded.h"
 #include "valerant/ros/node_main.h"
-#include "valerant/world/quake3/quake3_world.h"
 #include "valerant/world/quake3/units.h"
+#include "valerant/world/world_factory.h"
 
 using namespace valerant;
 using valerant::bridge::guarded;
@@ -44,6 +46,7 @@ namespace {
 struct Committed {
   size_t frames = 0;
   Eigen::Isometry3d camera_to_world = Eigen::Isometry3d::Identity();
+  bool has_truth = false;  // camera_to_world is the engine's (a screenshot start has none)
   cv::Mat image;
 };
 
@@ -98,14 +101,12 @@ class WorldModelServer {
 
  private:
   void load() {
-    if (config_.world.backend == "quake3") {
-      if (!map_) map_ = quake3::loadQuake3Map(config_.world.map, config_.world.patch_level);
-      world_ = std::make_unique<quake3::Quake3World>(map_, config_);
-    } else if (config_.world.backend == "bag") {
+    const std::string image = pnh_.param<std::string>("image", "");
+    if (config_.world.backend == "bag") {
       world_ = std::make_unique<valerant::bridge::BagWorld>(valerant::bridge::requiredString(pnh_, "bag"),
                                                          valerant::bridge::requiredString(pnh_, "bag_prefix"));
-    } else {
-      throw InputError("world backend '" + config_.world.backend + "'", "unknown (quake3 or bag)");
+    } else {  // quake3, or learned from the image or the engine spawn (the map is kept for a reset)
+      world_ = makeWorld(config_, image, map_);
     }
     cache_.clear();
     saved_.clear();
@@ -119,8 +120,10 @@ class WorldModelServer {
     msg.header.stamp = ::ros::Time::now();
     for (size_t i = 0; i < context.frames.size(); ++i) msg.frames.push_back(frameMsg(context, i, 0, "context", false));
     context_.publish(msg);
-    ROS_INFO_STREAM("world_model_server: " << config_.world.backend << " world " << config_.world.map << ", spawn "
-                                           << config_.world.spawn << ", " << context.frames.size() << " context frames");
+    ROS_INFO_STREAM("world_model_server: " << config_.world.backend << " world "
+                                           << (image.empty() ? config_.world.map + ", spawn " + std::to_string(config_.world.spawn)
+                                                             : "from screenshot " + image)
+                                           << ", " << context.frames.size() << " context frames");
   }
 
   WorldModel& world() {
@@ -129,7 +132,10 @@ class WorldModelServer {
   }
 
   static Committed withRollout(Committed c, const Rollout& r) {
-    if (!r.truth.empty()) c.camera_to_world = r.truth.back().camera_to_world;
+    if (!r.truth.empty()) {
+      c.camera_to_world = r.truth.back().camera_to_world;
+      c.has_truth = true;
+    }
     if (!r.frames.empty()) c.image = r.frames.back();
     return c;
   }
@@ -311,6 +317,7 @@ class WorldModelServer {
       image.header.frame_id = "camera";
       camera_image_.publish(image);
     }
+    if (!committed.has_truth) return;  // no engine pose to show
     geometry_msgs::TransformStamped t;
     t.header.stamp = now;
     t.header.frame_id = "gt_world";

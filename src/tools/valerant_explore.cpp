@@ -1,6 +1,6 @@
-// valerant_explore: one exploration episode on the engine world, without ROS.
+// valerant_explore: one exploration episode on the engine or the learned world, without ROS.
 //
-//   valerant_explore --map NAME [--spawn I] [--slam visual|oracle] [--budget N]
+//   valerant_explore --map NAME [--spawn I] [--image FILE] [--slam visual|oracle] [--budget N]
 //                    [--no-rf] [--no-col-pc] [--no-col-depth] [--no-dp] [--seed S]
 //                    [--policy valerant|random|forward|frontier]
 //                    [--config FILE] [--set key=value ...] [--force | --resume] --out DIR
@@ -15,6 +15,10 @@
 // steps (on long runs not after every step: eval/snapshot_schedule.h). After every
 // step, one progress line on stderr (explore/progress_line.h): step, committed steps,
 // the candidate, the reachable floor observed, keyframes, resident memory and seconds.
+// --image FILE starts the learned world (world.backend learned) from that screenshot: no
+// level, so no ground truth (report.json's ground_truth is null, no gt_trajectory.txt);
+// the screenshot is kept as DIR/screenshot.png for --resume. Without --image the learned
+// world starts at the engine spawn, which also gives the ground truth.
 // A folder holding a run is an error unless --force (replace it) or, for an unfinished
 // run, --resume (eval/run_directory.h). The flags that stand for
 // configuration keys go through the configuration's checks (tools/tool_config.h).
@@ -24,6 +28,8 @@
 #include <chrono>
 #include <csignal>
 #include <iostream>
+#include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "tool_config.h"
 #include "valerant/common/joined.h"
@@ -36,8 +42,9 @@
 #include "valerant/explore/episode_json.h"
 #include "valerant/explore/progress_line.h"
 #include "valerant/map/run_map.h"
-#include "valerant/world/quake3/quake3_world.h"
+#include "valerant/world/learned/learned_world.h"
 #include "valerant/world/quake3/reachable_floor.h"
+#include "valerant/world/world_factory.h"
 
 using namespace valerant;
 namespace fs = std::filesystem;
@@ -83,6 +90,10 @@ int main(int argc, char** argv) {
                          "ablation: no point-cloud collision check");
   tool_config.switchFlag("--no-col-depth", "collision.depth_enabled=false", "ablation: no depth collision check");
   tool_config.switchFlag("--no-dp", "dead_pocket.enabled=false", "ablation: no dead-pocket rewind");
+  std::string image;
+  app.add_option("--image", image,
+                 "start the learned world from this screenshot (PNG, JPEG; needs world.backend learned)")
+      ->type_name("FILE");
   std::string out;
   app.add_option("--out", out, "run folder")->type_name("DIR")->required();
   CLI::Option* force = app.add_flag("--force", "replace the run the folder holds");
@@ -99,6 +110,20 @@ int main(int argc, char** argv) {
     const ConfigDocument document =
         start == RunStart::kResume ? ConfigDocument::load(out + "/config.yaml") : tool_config.document();
     const Config config = document.parse();
+    if (!image.empty() && start == RunStart::kResume)
+      throw tools::UsageError("--image", "--resume starts from the run's own screenshot.png; leave out --image");
+    if (!image.empty() && config.world.backend != "learned")
+      throw tools::UsageError("--image " + image, "starts the learned world only: add --set world.backend=learned");
+    if (!image.empty() && config.slam.backend == "oracle")
+      throw tools::UsageError("--image " + image, "has no ground truth for the oracle SLAM: use --slam visual");
+    const std::string kept_screenshot = out + "/screenshot.png";
+    const std::string screenshot =
+        start == RunStart::kResume ? (fs::exists(kept_screenshot) ? kept_screenshot : "") : image;
+    // The engine map: the world itself, or the learned world's truth shadow; none from a screenshot.
+    std::shared_ptr<const quake3::Quake3Map> map;
+    const std::unique_ptr<WorldModel> world = makeWorld(config, screenshot, map);
+    // Read before the folder is prepared: --force may remove a screenshot kept inside it.
+    const cv::Mat screenshot_rgb = screenshot.empty() ? cv::Mat() : readScreenshot(screenshot);
     prepareRunDirectory(out, start);
     std::vector<nlohmann::json> recorded;
     if (start == RunStart::kResume) {
@@ -107,14 +132,19 @@ int main(int argc, char** argv) {
                 << " recorded steps, then going on\n";
     } else {
       saveRunConfig(out, document, false);
+      if (!screenshot_rgb.empty()) {  // as PNG: a resumed run decodes the same pixels
+        cv::Mat bgr;
+        cv::cvtColor(screenshot_rgb, bgr, cv::COLOR_RGB2BGR);
+        writeImageAtomically(kept_screenshot, bgr);
+      }
     }
 
-    auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
-    quake3::Quake3World world(map, config);
-    Episode episode(world, config);
+    Episode episode(*world, config);
     // The progress lines' coverage (report.json's is counted again at the end).
-    LiveCoverage coverage(quake3::floodFillReachableFloor(
-        *map->collision, world.map().bsp.spawnPoints().at(config.world.spawn).origin));
+    std::optional<LiveCoverage> coverage;
+    if (map)
+      coverage.emplace(quake3::floodFillReachableFloor(*map->collision,
+                                                       map->bsp.spawnPoints().at(config.world.spawn).origin));
     const auto episode_start = Clock::now();
     auto last_line = episode_start;
     SnapshotSchedule snapshots;
@@ -123,6 +153,11 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);
     nlohmann::json report = runReportHeader("valerant_explore", config);
+    if (!screenshot.empty()) {  // no level: the configuration's map and spawn were not used
+      report["screenshot"] = screenshot;
+      report["map"] = nullptr;
+      report["spawn"] = nullptr;
+    }
     AppendOnlyLog decisions(out + "/decisions.jsonl", start == RunStart::kResume);
     episode.runUntilDone(
         [&](const StepRecord& r) {
@@ -135,7 +170,7 @@ int main(int argc, char** argv) {
           }
           snapshot_seconds += snapshotAfterStep(out, episode, r, report, snapshots);
           StepProgress progress;
-          progress.observed_percent = coverage.update(episode);
+          if (coverage) progress.observed_percent = coverage->update(episode);
           progress.resident_bytes = residentMemory().current_bytes;
           const auto now = Clock::now();
           progress.seconds = secondsBetween(last_line, now);
@@ -151,7 +186,7 @@ int main(int argc, char** argv) {
                                                      std::to_string(episode.history().size()));
 
     const auto outputs_start = Clock::now();
-    writeEpisodeOutputs(episode, &world.map(), out, true, report);
+    writeEpisodeOutputs(episode, map.get(), out, true, report);
     report["output_seconds"] = secondsBetween(outputs_start, Clock::now());  // exports and ground truth
     // A signal during the writes above still counts: the report says what the exit status says.
     const int signal = g_signal.load();

@@ -37,9 +37,14 @@ namespace {
 // explored, the SLAM map tied to the BSP frame through the ground-truth trajectory.
 nlohmann::json walkableGroundTruth(const RunMap& run, const std::string& run_dir, const std::string& walkable_path) {
   const std::string truth_path = (fs::path(run_dir) / "gt_trajectory.txt").string();
-  const std::string map_name = run.report.value("map", "");
-  if (map_name.empty() || !fs::exists(truth_path) || !run.report.contains("spawn"))
+  // A run of the learned world from a screenshot has null for both: it explored no level.
+  const auto map_field = run.report.find("map"), spawn_field = run.report.find("spawn");
+  const bool engine_run = map_field != run.report.end() && map_field->is_string() &&
+                          !map_field->get<std::string>().empty() && spawn_field != run.report.end() &&
+                          spawn_field->is_number_integer();
+  if (!engine_run || !fs::exists(truth_path))
     return {{"available", false}, {"reason", "not an engine run (no map name or gt_trajectory.txt)"}};
+  const std::string map_name = map_field->get<std::string>();
   std::vector<Eigen::Isometry3d> truth;
   for (const auto& p : readTumTrajectory(truth_path)) {
     Eigen::Isometry3d pose = p.pose;
@@ -54,7 +59,7 @@ nlohmann::json walkableGroundTruth(const RunMap& run, const std::string& run_dir
 
   const auto map = quake3::loadQuake3Map(map_name, run.config.world.patch_level);
   const auto spawns = map->bsp.spawnPoints();
-  const int spawn = run.report["spawn"].get<int>();
+  const int spawn = spawn_field->get<int>();
   if (spawn < 0 || spawn >= static_cast<int>(spawns.size()))
     throw InputError(run_dir + "/report.json", "spawn " + std::to_string(spawn) + " is not a spawn of " + map_name);
   const auto reachable = quake3::floodFillReachableFloor(*map->collision, spawns[spawn].origin);

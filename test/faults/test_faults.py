@@ -3,7 +3,9 @@
 file-size limit, kills at random moments of an episode, reruns into unfinished run
 folders, bad numbers on the command line, signals, broken map files and malformed
 evaluation folders. Every fault must end in a clear error naming its input (or a
-complete run), never a hang, a truncated file under a final name or a lost map.
+complete run), never a hang, a truncated file under a final name or a lost map. Also
+the smoke episodes of the learned world backend (LearnedWorldEpisodes), on the
+hand-made test model, from an engine spawn and from a screenshot.
 
   test_faults.py [--xml DIR]   # DIR: JUnit XML for scripts/count_test_results
 
@@ -45,7 +47,7 @@ TOOL_FLAGS = {
     ("valerant_render",): (["--map", "--spawn", "--candidate", "--every", "--out"] + CONFIG_FLAGS,
                            ["--out", "OUT"], "--every"),
     ("valerant_explore",): (["--map", "--spawn", "--seed", "--slam", "--policy", "--budget", "--no-rf", "--no-col-pc",
-                             "--no-col-depth", "--no-dp", "--force", "--resume", "--out"] + CONFIG_FLAGS,
+                             "--no-col-depth", "--no-dp", "--image", "--force", "--resume", "--out"] + CONFIG_FLAGS,
                             ["--out", "OUT"], "--spawn"),
     ("valerant_slam",): (["--map", "--spawn", "--slam", "--candidates", "--out"] + CONFIG_FLAGS,
                          ["--out", "OUT"], "--spawn"),
@@ -486,6 +488,126 @@ class Faults(unittest.TestCase):
                 os.killpg(launch.pid, signal.SIGINT)
                 launch.wait(timeout=60)
         self.assertIn("parameter /valerant_config/set (floor.enabeld=false): floor.enabeld: unknown key", output)
+
+
+class LearnedWorldEpisodes(unittest.TestCase):
+    """valerant_explore with world.backend learned on the hand-made model
+    (learn/make_test_world_model.py), from an engine spawn (the engine shadow gives the
+    ground truth) and from a PNG the engine rendered (no ground truth)."""
+    MODEL = os.path.join(ROOT, "test", "data", "world_model_shift.onnx")
+    LEARNED = ["--set", "world.backend=learned", "--set", "world.learned.model=" + MODEL]
+
+    @classmethod
+    def setUpClass(cls):
+        for name in ("valerant_explore", "valerant_render", "valerant_export"):
+            if not os.access(tool(name), os.X_OK):
+                raise unittest.SkipTest(tool(name) + " is not built")
+        cls.scratch = tempfile.mkdtemp(prefix="valerant_learned_")
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.scratch, ignore_errors=True)
+
+    def assertFinishedWithMap(self, out, status, err):
+        self.assertEqual(status, 0, err)
+        report = complete_report(out)
+        self.assertIsNotNone(report, err)
+        for name in ("trajectory.txt", "topdown.png", "view.png", "keyframes.pcd", "grid.pgm", "map.ply"):
+            self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
+        self.assertGreaterEqual(report["committed_steps"], 1, err)
+        self.assertGreater(report["map_points"], 0, err)
+        return report
+
+    def test_spawn_start_finishes_with_the_engines_ground_truth(self):
+        out = os.path.join(self.scratch, "spawn")
+        status, _, err = run([tool("valerant_explore"), "--map", "oa_dm1", "--spawn", "0", "--budget", "2", *self.LEARNED,
+                              "--out", out])
+        report = self.assertFinishedWithMap(out, status, err)
+        self.assertIsInstance(report["ground_truth"], dict)
+        self.assertGreater(report["ground_truth"]["committed_frames"], 1)
+        self.assertGreater(report["frames_rendered"], 0)
+        self.assertTrue(os.path.isfile(os.path.join(out, "gt_trajectory.txt")))
+        self.assertIn("| observed ", err)  # the progress lines count coverage
+
+    def test_screenshot_start_finishes_without_ground_truth(self):
+        rendered = os.path.join(self.scratch, "render")
+        status, _, err = run([tool("valerant_render"), "--map", "oa_dm1", "--spawn", "0", "--candidate", "q:1",
+                              "--out", rendered])
+        self.assertEqual(status, 0, err)
+        shot = os.path.join(rendered, "spawn.png")
+        out = os.path.join(self.scratch, "screenshot")
+        status, line, err = run([tool("valerant_explore"), "--image", shot, "--budget", "2", *self.LEARNED,
+                                 "--out", out])
+        report = self.assertFinishedWithMap(out, status, err)
+        self.assertIsNone(report["ground_truth"])
+        self.assertIsNone(report["frames_rendered"])
+        self.assertEqual(report["screenshot"], shot)
+        self.assertEqual(report["world"], "learned")
+        self.assertIsNone(report["map"])  # no level
+        self.assertFalse(os.path.exists(os.path.join(out, "gt_trajectory.txt")))
+        self.assertTrue(os.path.isfile(os.path.join(out, "screenshot.png")))
+        self.assertNotIn("| observed ", err)  # no coverage without ground truth
+        self.assertIsNone(json.loads(line)["ground_truth"])
+        # The run exports like any other; its walkable area has nothing to be scored against.
+        exported = os.path.join(self.scratch, "screenshot_export")
+        status, line, err = run([tool("valerant_export"), "--run", out, "--out", exported, "--formats", "walkable"])
+        self.assertEqual(status, 0, err)
+        self.assertFalse(json.loads(line)["ground_truth"]["available"])
+
+    def test_bad_image_and_image_without_the_learned_backend_are_errors_naming_them(self):
+        out = os.path.join(self.scratch, "bad")
+        status, _, err = run([tool("valerant_explore"), "--image", "/nonexistent/shot.png", *self.LEARNED,
+                              "--out", out])
+        self.assertEqual(status, 1, err)
+        self.assertIn("/nonexistent/shot.png: screenshot file does not exist", err)
+        text = os.path.join(self.scratch, "text.png")
+        with open(text, "w") as handle:
+            handle.write("not an image")
+        status, _, err = run([tool("valerant_explore"), "--image", text, *self.LEARNED, "--out", out])
+        self.assertEqual(status, 1, err)
+        self.assertIn(text + ": not an image", err)
+        status, _, err = run([tool("valerant_explore"), "--image", text, "--out", out])
+        self.assertEqual(status, USAGE_ERROR, err)
+        self.assertIn("--image " + text + ": starts the learned world only: add --set world.backend=learned", err)
+        status, _, err = run([tool("valerant_explore"), "--image", text, "--slam", "oracle", *self.LEARNED,
+                              "--out", out])
+        self.assertEqual(status, USAGE_ERROR, err)
+        self.assertIn("has no ground truth for the oracle SLAM", err)
+        status, _, err = run([tool("valerant_explore"), "--set", "world.backend=learned", "--set",
+                              "world.learned.model=/nonexistent/wm.onnx", "--out", out])
+        self.assertEqual(status, 1, err)
+        self.assertIn("/nonexistent/wm.onnx: world model file does not exist", err)
+        self.assertFalse(os.path.exists(out), "nothing is made before the world loads")
+
+    def test_graph_episode_from_a_screenshot(self):
+        # explore.launch with the learned world served by world_model_server from a PNG
+        # the engine rendered: the graph is unchanged, the report has no ground truth.
+        rendered = os.path.join(self.scratch, "graph_render")
+        status, _, err = run([tool("valerant_render"), "--map", "oa_dm1", "--spawn", "0", "--candidate", "q:1",
+                              "--out", rendered])
+        self.assertEqual(status, 0, err)
+        out = os.path.join(self.scratch, "graph")
+        port = str(13000 + os.getpid() % 1000)
+        launch = subprocess.Popen(["roslaunch", "-p", port, "valerant", "explore.launch", "budget:=2",
+                                   "image:=" + os.path.join(rendered, "spawn.png"), "output_dir:=" + out,
+                                   "set:=world.backend=learned world.learned.model=" + self.MODEL],
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                  env=dict(os.environ, ROS_MASTER_URI="http://localhost:" + port),
+                                  start_new_session=True)
+        try:
+            output, _ = launch.communicate(timeout=TIMEOUT)
+        finally:
+            if launch.poll() is None:
+                os.killpg(launch.pid, signal.SIGINT)
+                launch.wait(timeout=60)
+        self.assertIn("learned world from screenshot", output)
+        report = complete_report(out)
+        self.assertIsNotNone(report, output)
+        self.assertEqual(report["world"], "learned")
+        self.assertEqual(report["committed_steps"], 2, output)
+        self.assertGreater(report["map_points"], 0, output)
+        self.assertIsNone(report["ground_truth"])
+        self.assertIsNone(report["map"])
 
 
 def main():

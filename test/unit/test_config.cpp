@@ -342,3 +342,20 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.policy.open_turn, built_in.open_turn);
   EXPECT_EQ(shipped.policy.opening_weight, built_in.opening_weight);
 }
+
+TEST(Config, LearnedWorldSectionHasTheModelsContractAndRanges) {
+  const Config c = loadConfig(kShipped);
+  EXPECT_EQ(c.world.backend, "quake3");
+  EXPECT_EQ(c.world.learned.model, "models/world_model.onnx");
+  EXPECT_EQ(c.world.learned.width, 128);
+  EXPECT_EQ(c.world.learned.height, 96);
+  EXPECT_EQ(c.world.learned.context_frames, 4);
+  EXPECT_EQ(parseConfig(overShipped("world:\n  backend: learned\n"), "test.yaml").world.backend, "learned");
+  EXPECT_EQ(errorOf("world:\n  backend: video\n"), "test.yaml: world.backend: 'video' is not one of: bag, learned, quake3");
+  EXPECT_EQ(errorOf("world:\n  learned:\n    context_frames: 0\n"),
+            "test.yaml: world.learned.context_frames: value 0 outside [1, 64]");
+  EXPECT_EQ(errorOf("world:\n  learned:\n    width: 4\n"), "test.yaml: world.learned.width: value 4 outside [8, 4096]");
+  EXPECT_EQ(errorOf("world:\n  learned:\n    height: 5000\n"),
+            "test.yaml: world.learned.height: value 5000 outside [8, 4096]");
+  EXPECT_EQ(errorOf("world:\n  learned:\n    modle: x.onnx\n"), "test.yaml: world.learned.modle: unknown key");
+}

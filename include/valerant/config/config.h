@@ -23,8 +23,17 @@ struct DegradationConfig {
   double jitter_px = 0;         // per-frame random image shift, pixels
 };
 
+// The learned world model (world/learned/world_model_net.h, docs/world_model.md): an
+// ONNX next-frame predictor at its own frame size and context length.
+struct LearnedWorldConfig {
+  std::string model = "models/world_model.onnx";  // relative: to the package folder
+  int width = 128;           // the net's frame size: OpenCV 4.6 cannot read it from the file
+  int height = 96;
+  int context_frames = 4;    // K frames the net sees
+};
+
 struct WorldConfig {
-  std::string backend = "quake3";
+  std::string backend = "quake3";  // quake3 | bag | learned
   std::string map = "oa_dm1";  // map name, or /path/to/file.pk3:mapname
   int spawn = 0;
   int width = 320;
@@ -38,6 +47,7 @@ struct WorldConfig {
   double max_drop_units = 1024; // deepest drop the eye follows down
   uint32_t seed = 0;
   DegradationConfig degradation;
+  LearnedWorldConfig learned;
 };
 
 struct RolloutConfig {

@@ -5,7 +5,7 @@
 // mesh.glb, walkable.json, overview.png, orbit.png), the map kept for valerant_export
 // (map/run_map.h: keyframes.pcd, keyframes.txt; config.yaml must be saved first with
 // saveRunConfig), trajectory.txt (TUM, SLAM frame), gt_trajectory.txt (TUM, BSP frame,
-// game units), topdown.png, view.png (the last committed frame) and, last,
+// game units; only with ground truth), topdown.png, view.png (the last committed frame) and, last,
 // report.json (with the ground-truth figures when the engine map is given): its
 // presence marks the run complete (run_directory.h). decisions.jsonl is the caller's,
 // written step by step. Every file is written atomically (common/output_file.h).
@@ -19,7 +19,7 @@
 namespace valerant {
 
 // The fields every run's report.json starts with: the tool that ran it and the run's
-// map, spawn, SLAM, policy, seed, budget and switches.
+// world backend, map, spawn, SLAM, policy, seed, budget and switches.
 nlohmann::json runReportHeader(const std::string& tool, const Config& config);
 
 // After a step that changed the map (a commit or a rewind), the map of the committed
@@ -30,7 +30,9 @@ double snapshotAfterStep(const std::string& out, const Episode& episode, const S
                          const nlohmann::json& header, SnapshotSchedule& schedule);
 
 // Writes every output but report.json and adds files, statistics and ground truth to
-// `report`. `map`: the engine map the episode ran on (null: no ground-truth figures).
+// `report`. `map`: the engine map the episode ran on, or that shadowed the learned world
+// (null: no ground truth; report.json's ground_truth is null, and so is frames_rendered
+// and there is no gt_trajectory.txt when the frames came without truth).
 void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, const std::string& out, bool overwrite,
                          nlohmann::json& report);
 // Writes `report` as `out`/report.json, the run's last file, and then removes the

@@ -2,7 +2,8 @@
 // The world model as the explorer sees it: a frozen
 // action-conditioned video generator with checkpoints. A rollout imagines frames from
 // the committed state without changing it; commit() makes one rollout the new
-// committed state. Backends: quake3 (engine), bag (recorded rollouts).
+// committed state. Backends: quake3 (engine), bag (recorded rollouts), learned (a
+// learned next-frame predictor: world/learned/learned_world.h).
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <opencv2/core.hpp>

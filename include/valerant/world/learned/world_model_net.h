@@ -1,0 +1,58 @@
+#pragma once
+// One step of the learned world model: an ONNX net (trained in learn/) run on the CPU by
+// OpenCV's DNN module on one thread. A single-step, deterministic, action-conditioned
+// next-frame predictor, run autoregressively by its callers.
+//
+// The model's contract (docs/world_model.md, section "Backend"):
+//   input  "frames_and_motion" float32 [1, 3K+4, H, W]: the K most recent frames, oldest
+//          first, each as R,G,B planes in [0,1] (frame k is channels 3k..3k+2), then four
+//          constant planes with the commanded motion of the frame to produce, the raw
+//          MotionStep values forward_units, strafe_units, yaw_deg, pitch_deg (the net
+//          scales them itself);
+//   output "warp_and_fill" float32 [1, 6, H, W]: flow dx, dy in pixels, mask m in [0,1],
+//          fill R,G,B in [0,1]; the next frame is warpAndFill() of the newest frame.
+#include <opencv2/core.hpp>
+#include <opencv2/dnn.hpp>
+#include <string>
+#include <vector>
+
+#include "valerant/world/action_sequence.h"
+
+namespace valerant {
+
+// next(x,y) = m * last(x+dx, y+dy) + (1-m) * fill(x,y), `last` sampled bilinearly with
+// border replication, clamped to [0,1] and rounded to 8 bits. `last`: CV_8UC3 RGB;
+// `flow`: CV_32FC2 (dx, dy) in pixels; `mask`: CV_32F; `fill`: CV_32FC3 RGB in [0,1];
+// all of one size. Returns CV_8UC3 RGB of that size.
+cv::Mat warpAndFill(const cv::Mat& last, const cv::Mat& flow, const cv::Mat& mask, const cv::Mat& fill);
+
+class WorldModelNet {
+ public:
+  // Loads the ONNX file at `path` for frames of `width` x `height` and `context_frames`
+  // (K) frames of context, and runs one probe forward on zeros. Throws InputError naming
+  // `path` when it is missing, unreadable or not a model of this contract.
+  WorldModelNet(const std::string& path, int width, int height, int context_frames);
+
+  // `context`: exactly contextFrames() CV_8UC3 RGB frames of width() x height(), oldest
+  // first. Returns the next frame, CV_8UC3 RGB, width() x height(). Throws InputError on
+  // a wrong context.
+  cv::Mat next(const std::vector<cv::Mat>& context, const MotionStep& motion);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int contextFrames() const { return context_frames_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  // One forward pass of a [1,3K+4,H,W] blob; the [1,6,H,W] output as its own copy.
+  // Throws InputError naming the model when it cannot run or gives another shape.
+  cv::Mat forward(const cv::Mat& blob);
+
+  std::string path_;
+  int width_;
+  int height_;
+  int context_frames_;
+  cv::dnn::Net net_;
+};
+
+}  // namespace valerant

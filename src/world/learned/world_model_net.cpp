@@ -1,0 +1,142 @@
+#include "valerant/world/learned/world_model_net.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <opencv2/imgproc.hpp>
+
+#include "valerant/common/error.h"
+
+namespace valerant {
+namespace {
+
+const char* const kInputName = "frames_and_motion";
+const char* const kOutputName = "warp_and_fill";
+constexpr int kMotionChannels = 4;  // forward_units, strafe_units, yaw_deg, pitch_deg
+constexpr int kOutputChannels = 6;  // dx, dy, mask, fill R, G, B
+
+std::vector<uchar> readModelBytes(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(path, "world model file does not exist");
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "world model is not a file");
+  std::ifstream in(path, std::ios::binary);
+  std::vector<uchar> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw InputError(path, "cannot read the world model file");
+  return bytes;
+}
+
+std::string shapeText(const cv::Mat& m) {
+  std::string text = "[";
+  for (int d = 0; d < m.dims; ++d) text += (d ? "," : "") + std::to_string(m.size[d]);
+  return text + "]";
+}
+
+std::string expectedOutputText(int width, int height) {
+  return "[1," + std::to_string(kOutputChannels) + "," + std::to_string(height) + "," + std::to_string(width) +
+         "] float32";
+}
+
+// Channel `c` of a [1,C,H,W] float blob as an H x W CV_32F header over its data.
+cv::Mat plane(const cv::Mat& blob, int c) {
+  const int h = blob.size[2], w = blob.size[3];
+  return cv::Mat(h, w, CV_32F, const_cast<float*>(blob.ptr<float>(0, c)));
+}
+
+}  // namespace
+
+cv::Mat warpAndFill(const cv::Mat& last, const cv::Mat& flow, const cv::Mat& mask, const cv::Mat& fill) {
+  CV_Assert(last.type() == CV_8UC3 && flow.type() == CV_32FC2 && mask.type() == CV_32F && fill.type() == CV_32FC3);
+  CV_Assert(flow.size() == last.size() && mask.size() == last.size() && fill.size() == last.size());
+  // Absolute sampling positions: map = pixel + flow.
+  cv::Mat map(flow.size(), CV_32FC2);
+  for (int y = 0; y < flow.rows; ++y) {
+    const cv::Vec2f* f = flow.ptr<cv::Vec2f>(y);
+    cv::Vec2f* m = map.ptr<cv::Vec2f>(y);
+    for (int x = 0; x < flow.cols; ++x) m[x] = cv::Vec2f(x + f[x][0], y + f[x][1]);
+  }
+  // Sampled in float, so the blend rounds to 8 bits once.
+  cv::Mat last_unit, warped;
+  last.convertTo(last_unit, CV_32FC3, 1.0 / 255.0);
+  cv::remap(last_unit, warped, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  cv::Mat mask3, inverse3;
+  cv::merge(std::vector<cv::Mat>(3, mask), mask3);
+  cv::subtract(cv::Scalar::all(1.0), mask3, inverse3);
+  const cv::Mat blended = mask3.mul(warped) + inverse3.mul(fill);
+  // convertTo rounds to nearest and saturates: the clamp to [0,1] and the 8-bit rounding.
+  cv::Mat next;
+  blended.convertTo(next, CV_8UC3, 255.0);
+  return next;
+}
+
+WorldModelNet::WorldModelNet(const std::string& path, int width, int height, int context_frames)
+    : path_(path), width_(width), height_(height), context_frames_(context_frames) {
+  if (width <= 0 || height <= 0 || context_frames <= 0)
+    throw InputError(path, "world model frame size " + std::to_string(width) + "x" + std::to_string(height) +
+                               " and context " + std::to_string(context_frames) + " frames must be positive");
+  const std::vector<uchar> bytes = readModelBytes(path);
+  try {
+    net_ = cv::dnn::readNetFromONNX(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  } catch (const cv::Exception& e) {
+    throw InputError(path, "not an ONNX model OpenCV " CV_VERSION " can load: " + e.err);
+  }
+  if (net_.empty()) throw InputError(path, "OpenCV " CV_VERSION " read no layers from this ONNX model");
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  // Probe on zeros: a model of another interface fails here, not in the middle of a run.
+  const int channels = 3 * context_frames + kMotionChannels;
+  forward(cv::Mat(std::vector<int>{1, channels, height, width}, CV_32F, cv::Scalar(0)));
+}
+
+cv::Mat WorldModelNet::forward(const cv::Mat& blob) {
+  cv::Mat out;
+  try {
+    net_.setInput(blob, kInputName);
+    out = net_.forward(kOutputName);
+  } catch (const cv::Exception& e) {
+    throw InputError(path_, std::string("OpenCV cannot run the world model with input '") + kInputName + "' " +
+                                shapeText(blob) + " (" + std::to_string(context_frames_) + " context frames of " +
+                                std::to_string(width_) + "x" + std::to_string(height_) + ": the size it was made for?) and output '" +
+                                kOutputName + "': " + e.err);
+  }
+  const bool expected = out.dims == 4 && out.size[0] == 1 && out.size[1] == kOutputChannels && out.size[2] == height_ &&
+                        out.size[3] == width_ && out.type() == CV_32F;
+  if (!expected)
+    throw InputError(path_, std::string("output '") + kOutputName + "' has shape " + shapeText(out) +
+                                (out.type() == CV_32F ? "" : " (not float32)") + " for input " + shapeText(blob) +
+                                ", expected " + expectedOutputText(width_, height_));
+  return out.clone();  // forward's result may alias the Net's buffers
+}
+
+cv::Mat WorldModelNet::next(const std::vector<cv::Mat>& context, const MotionStep& motion) {
+  if (static_cast<int>(context.size()) != context_frames_)
+    throw InputError(path_, "world model context has " + std::to_string(context.size()) + " frames, expected " +
+                                std::to_string(context_frames_));
+  const cv::Size size(width_, height_);
+  for (size_t k = 0; k < context.size(); ++k)
+    if (context[k].type() != CV_8UC3 || context[k].size() != size)
+      throw InputError(path_, "world model context frame " + std::to_string(k) + " is a " +
+                                  std::to_string(context[k].cols) + "x" + std::to_string(context[k].rows) + " " +
+                                  cv::typeToString(context[k].type()) + ", expected a " + std::to_string(width_) +
+                                  "x" + std::to_string(height_) + " CV_8UC3 RGB frame");
+
+  const int channels = 3 * context_frames_ + kMotionChannels;
+  cv::Mat blob(std::vector<int>{1, channels, height_, width_}, CV_32F);
+  for (int k = 0; k < context_frames_; ++k) {
+    cv::Mat unit;
+    context[k].convertTo(unit, CV_32FC3, 1.0 / 255.0);
+    std::vector<cv::Mat> rgb;
+    cv::split(unit, rgb);
+    for (int c = 0; c < 3; ++c) rgb[c].copyTo(plane(blob, 3 * k + c));
+  }
+  const double motion_values[kMotionChannels] = {motion.forward_units, motion.strafe_units, motion.yaw_deg,
+                                                 motion.pitch_deg};
+  for (int i = 0; i < kMotionChannels; ++i) plane(blob, 3 * context_frames_ + i).setTo(motion_values[i]);
+
+  const cv::Mat out = forward(blob);
+  cv::Mat flow, fill;
+  cv::merge(std::vector<cv::Mat>{plane(out, 0), plane(out, 1)}, flow);
+  cv::merge(std::vector<cv::Mat>{plane(out, 3), plane(out, 4), plane(out, 5)}, fill);
+  return warpAndFill(context.back(), flow, plane(out, 2), fill);
+}
+
+}  // namespace valerant
