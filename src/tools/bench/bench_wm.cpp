@@ -7,13 +7,17 @@
 //   horizons  PSNR and SSIM (eval/image_similarity.h) of the frame after 8, 16, 32, 57
 //             and 97 actions against the engine's, next to two baselines: `repeat` (the
 //             last context frame) and `flat` (every pixel the true frame's mean colour);
-//             each horizon counts the rollouts that reach it (97: jw, lw only).
+//             each horizon counts the rollouts that reach it (97: jw, lw only) with the
+//             engine's camera outside solid there (inside a wall the engine shows the
+//             wall's inside, a near-uniform image that no model can be asked for and
+//             that `flat` matches exactly; such frames are counted apart).
 //   motion    our visual SLAM as the explorer runs it (the context, then a branch per
 //             candidate; frames resized to the configured camera size, world.width x
 //             height, which its pixel parameters were tuned at) on the generated frames
 //             and on the engine's, the recovered path carried into the world by the
 //             known first pose; yaw and heading errors at the rollout's end
-//             (eval/end_of_path_error.h) and the frames it lost.
+//             (eval/end_of_path_error.h) and the frames it lost, those where the
+//             engine's camera is in solid also counted apart.
 //   depth     the depth prior on every 4th generated frame and on the engine's frame at
 //             the same pose, both against the engine's depth on the same pixels (the
 //             prior gives a depth everywhere), frames in solid left out
@@ -83,6 +87,7 @@ class SimilarityMean {
 
 struct HorizonScores {
   SimilarityMean model, repeat, flat;
+  int in_solid = 0;  // rollouts whose frame there is in solid: not scored
 };
 
 // Every pixel the mean colour of `truth`: the best constant image in the MSE sense.
@@ -91,10 +96,11 @@ cv::Mat flatImage(const cv::Mat& truth) { return cv::Mat(truth.size(), truth.typ
 // End-of-rollout errors and lost frames of the SLAM over many rollouts of one source.
 class MotionScores {
  public:
-  void add(const EndOfPathError& e, long lost_frames) {
+  void add(const EndOfPathError& e, long lost_frames, long lost_in_solid) {
     yaw_.push_back(e.yaw_error_deg);
     if (e.heading_error_deg) heading_.push_back(*e.heading_error_deg);
     lost_frames_ += lost_frames;
+    lost_in_solid_ += lost_in_solid;
     rollouts_with_lost_frames_ += lost_frames > 0;
   }
   json toJson() const {
@@ -102,6 +108,7 @@ class MotionScores {
             {"yaw_error_deg", summary(yaw_)},
             {"heading_error_deg", summary(heading_)},
             {"lost_frames", lost_frames_},
+            {"lost_frames_in_solid", lost_in_solid_},
             {"rollouts_with_lost_frames", rollouts_with_lost_frames_}};
   }
 
@@ -113,7 +120,7 @@ class MotionScores {
     return {{"rollouts", v.size()}, {"mean", sum / v.size()}, {"max", *std::max_element(v.begin(), v.end())}};
   }
   std::vector<double> yaw_, heading_;
-  long lost_frames_ = 0;
+  long lost_frames_ = 0, lost_in_solid_ = 0;
   int rollouts_with_lost_frames_ = 0;
 };
 
@@ -158,25 +165,31 @@ CameraIntrinsics scaled(const CameraIntrinsics& k, cv::Size size) {
 struct SlamRun {
   EndOfPathError error;
   long lost_frames = 0;
+  long lost_in_solid = 0;  // of them, frames where the engine's camera is in solid
 };
 
-// A branch of `committed` (which has tracked the context) tracks `frames`; its path,
-// context included, is scored against `truth` (the context's and the rollout's poses).
-SlamRun trackRollout(const Slam& committed, const std::vector<cv::Mat>& frames,
-                     const std::vector<Eigen::Isometry3d>& truth, bool translates) {
+// A branch of `committed` (which has tracked the context) tracks `frames` of the
+// rollout `engine` made; its path, context included, is scored against `path` (the
+// context's and the rollout's true poses).
+SlamRun trackRollout(const Slam& committed, const std::vector<cv::Mat>& frames, const Rollout& engine,
+                     const std::vector<Eigen::Isometry3d>& path, bool translates) {
   const std::unique_ptr<Slam> branch = committed.branch();
   const cv::Size size(committed.intrinsics().width, committed.intrinsics().height);
   SlamRun run;
-  for (const cv::Mat& f : frames)
-    run.lost_frames += branch->track(SlamInput{atSize(f, size), {}}).state == TrackingState::kLost;
-  run.error = endOfPathError(branch->trajectory(), truth, translates);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    if (branch->track(SlamInput{atSize(frames[i], size), {}}).state != TrackingState::kLost) continue;
+    ++run.lost_frames;
+    run.lost_in_solid += engine.truth[i].in_solid;
+  }
+  run.error = endOfPathError(branch->trajectory(), path, translates);
   return run;
 }
 
 json slamJson(const SlamRun& run) {
   return {{"yaw_error_deg", run.error.yaw_error_deg},
           {"heading_error_deg", run.error.heading_error_deg ? json(*run.error.heading_error_deg) : json(nullptr)},
-          {"lost_frames", run.lost_frames}};
+          {"lost_frames", run.lost_frames},
+          {"lost_frames_in_solid", run.lost_in_solid}};
 }
 
 // A file name part for a map given as a name or as /path/file.pk3:map.
@@ -256,6 +269,10 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
           row.truth.push_back(reached ? truth.frames[h - 1] : cv::Mat());
           row.generated.push_back(reached ? generated[h - 1] : cv::Mat());
           if (!reached) continue;
+          if (truth.truth[h - 1].in_solid) {
+            ++horizons[h].in_solid;
+            continue;
+          }
           const cv::Mat& real = truth.frames[h - 1];
           horizons[h].model.add(generated[h - 1], real);
           horizons[h].repeat.add(screenshot, real);
@@ -266,10 +283,10 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
         for (const Rollout* r : {&context, &truth})
           for (const FrameTruth& t : r->truth) path.push_back(t.camera_to_world);
         const bool translates = !seq.rotationOnly();
-        const SlamRun on_generated = trackRollout(*slam, generated, path, translates);
-        const SlamRun on_engine = trackRollout(*slam, truth.frames, path, translates);
-        generated_motion.add(on_generated.error, on_generated.lost_frames);
-        engine_motion.add(on_engine.error, on_engine.lost_frames);
+        const SlamRun on_generated = trackRollout(*slam, generated, truth, path, translates);
+        const SlamRun on_engine = trackRollout(*slam, truth.frames, truth, path, translates);
+        generated_motion.add(on_generated.error, on_generated.lost_frames, on_generated.lost_in_solid);
+        engine_motion.add(on_engine.error, on_engine.lost_frames, on_engine.lost_in_solid);
 
         for (size_t i = 0; i < truth.frames.size(); i += kDepthFrameStride) {
           if (truth.truth[i].in_solid) {
@@ -287,6 +304,8 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
                             {"spawn", spawn},
                             {"candidate", seq.name},
                             {"frames", truth.frames.size()},
+                            {"in_solid_frames", std::count_if(truth.truth.begin(), truth.truth.end(),
+                                                              [](const FrameTruth& t) { return t.in_solid; })},
                             {"slam_generated", slamJson(on_generated)},
                             {"slam_engine", slamJson(on_engine)}});
       }
@@ -304,6 +323,7 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
   for (const auto& [h, s] : horizons)
     horizon_json.push_back({{"frame", h},
                             {"rollouts", s.model.count()},
+                            {"in_solid_skipped", s.in_solid},
                             {"model", s.model.toJson()},
                             {"repeat", s.repeat.toJson()},
                             {"flat", s.flat.toJson()}});
