@@ -12,8 +12,9 @@
 //             wall's inside, a near-uniform image that no model can be asked for and
 //             that `flat` matches exactly; such frames are counted apart).
 //   motion    our visual SLAM as the explorer runs it (the context, then a branch per
-//             candidate; frames resized to the configured camera size, world.width x
-//             height, which its pixel parameters were tuned at) on the generated frames
+//             candidate; frames resized to the configured camera, world.width x height
+//             and fov_x_deg, as the learned backend shows them, the size the SLAM's pixel
+//             parameters were tuned at) on the generated frames
 //             and on the engine's, the recovered path carried into the world by the
 //             known first pose; yaw and heading errors at the rollout's end
 //             (eval/end_of_path_error.h) and the frames it lost, those where the
@@ -154,14 +155,6 @@ cv::Mat atSize(const cv::Mat& rgb, cv::Size size) {
   return resized;
 }
 
-CameraIntrinsics scaled(const CameraIntrinsics& k, cv::Size size) {
-  const double sx = static_cast<double>(size.width) / k.width, sy = static_cast<double>(size.height) / k.height;
-  CameraIntrinsics s = k;
-  s.width = size.width, s.height = size.height;
-  s.fx *= sx, s.cx *= sx, s.fy *= sy, s.cy *= sy;
-  return s;
-}
-
 struct SlamRun {
   EndOfPathError error;
   long lost_frames = 0;
@@ -224,11 +217,14 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
   WorldModelNet model(model_path, learned.width, learned.height, learned.context_frames);
   const DepthPrior prior(packageFilePath(config.slam.depth_prior_model),
                          cv::Size(config.slam.depth_prior_width, config.slam.depth_prior_height));
-  // The engine renders what the model was trained on; the SLAM sees the configured camera.
+  // The engine renders what the model was trained on; the SLAM sees the configured
+  // camera, as behind the learned backend (learned_world.h: frames resized to it).
   Config engine_config = config;
   engine_config.world.width = model.width();
   engine_config.world.height = model.height();
-  const cv::Size slam_size(config.world.width, config.world.height);
+  const CameraIntrinsics slam_camera =
+      CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg);
+  const cv::Size slam_size(slam_camera.width, slam_camera.height);
   if (flags.out) fs::create_directories(*flags.out);
 
   std::map<int, HorizonScores> horizons;
@@ -252,7 +248,7 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
       quake3::Quake3World& world = *made;
       const Rollout context = world.context();
       const cv::Mat screenshot = context.frames.back();
-      const auto slam = makeSlam("visual", scaled(world.intrinsics(), slam_size), config, nullptr);
+      const auto slam = makeSlam("visual", slam_camera, config, nullptr);
       for (const cv::Mat& frame : context.frames) slam->track(SlamInput{atSize(frame, slam_size), {}});
       std::vector<ComparisonRow> sheet_rows;
       const CheckpointId start = world.checkpoint();
