@@ -17,6 +17,10 @@
 //   valerant_bench extent --maps oa_dm1,oa_dm2 [--spawns 3] [--config FILE] [--set key=value ...]
 //     the reachable floor's farthest distance from each spawn against the exploration
 //     grid's reach: whether the coverage grid holds the whole level (bench/bench_extent.cpp)
+//   valerant_bench wm [--maps A,B] [--spawns 1] [--model FILE] [--out DIR] [--config FILE] [--set key=value ...]
+//     the learned world model's rollouts against the engine's from the same spawn: PSNR and
+//     SSIM at five horizons next to two baselines, the visual SLAM's yaw and heading on
+//     them, the depth prior on them, CPU time per frame; comparison sheets (bench/bench_wm.cpp)
 //
 // `valerant_bench --help` lists the benchmarks, `valerant_bench NAME --help` the flags of one.
 #include <iostream>
@@ -35,7 +39,8 @@ int main(int argc, char** argv) {
                                                              {"graph", tools::addBenchGraph(app)},
                                                              {"map", tools::addBenchMap(app)},
                                                              {"depth", tools::addBenchDepth(app)},
-                                                             {"extent", tools::addBenchExtent(app)}};
+                                                             {"extent", tools::addBenchExtent(app)},
+                                                             {"wm", tools::addBenchWorldModel(app)}};
   return tools::runTool(app, argc, argv, [&] {
     std::cout << benchmarks.at(app.get_subcommands().front()->get_name())().dump() << std::endl;
     return 0;

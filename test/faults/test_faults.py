@@ -41,6 +41,7 @@ SNAPSHOT_FILES = ["config.yaml", "keyframes.pcd", "keyframes.txt", "trajectory.t
 MAP_EXPORTS = ["map.ply", "map.pcd", "map.bt", "mesh.obj", "mesh.glb", "overview.png", "orbit.png"]
 USAGE_ERROR = 2  # the exit status of a bad command line (src/tools/command_line.h)
 CONFIG_FLAGS = ["--config", "--set"]
+TEST_WORLD_MODEL = os.path.join(ROOT, "test", "data", "world_model_shift.onnx")  # learn/make_test_world_model.py
 # Every tool (valerant_bench: every benchmark) with every flag its --help must list, the
 # flags a run needs, and an integer flag with which to give it a bad number.
 TOOL_FLAGS = {
@@ -67,6 +68,7 @@ TOOL_FLAGS = {
     ("valerant_bench", "map"): (["--run", "--updates"], ["--run", "RUN"], "--updates"),
     ("valerant_bench", "depth"): (["--maps", "--spawns", "--model"] + CONFIG_FLAGS, [], "--spawns"),
     ("valerant_bench", "extent"): (["--maps", "--spawns"] + CONFIG_FLAGS, [], "--spawns"),
+    ("valerant_bench", "wm"): (["--maps", "--spawns", "--model", "--out"] + CONFIG_FLAGS, [], "--spawns"),
 }
 
 
@@ -281,7 +283,7 @@ class Faults(unittest.TestCase):
     def test_every_tool_answers_help_with_every_flag(self):
         status, out, err = run([tool("valerant_bench"), "--help"])
         self.assertEqual(status, 0, err)
-        for benchmark in ("render", "slam", "graph", "map", "depth", "extent"):
+        for benchmark in ("render", "slam", "graph", "map", "depth", "extent", "wm"):
             self.assertIn(benchmark, out)
         for command, (flags, _, _) in TOOL_FLAGS.items():
             for help_flag in ("--help", "-h"):
@@ -452,6 +454,40 @@ class Faults(unittest.TestCase):
         self.assertEqual(status, 1, err)
         self.assertIn("crc_dm1.bsp", err)
         self.assertIn("crc", err.lower())
+
+    def test_world_model_bench_on_the_test_model(self):
+        # valerant_bench wm end to end on one map and spawn with the hand-made shift model
+        # (learn/make_test_world_model.py): every part of its JSON line and one sheet.
+        out = self.folder("wm_bench")
+        status, stdout, err = run([tool("valerant_bench"), "wm", "--maps", "oa_dm2", "--spawns", "1", "--model",
+                                   TEST_WORLD_MODEL, "--out", out])
+        self.assertEqual(status, 0, err)
+        line = json.loads(stdout)
+        self.assertEqual([h["frame"] for h in line["horizons"]], [8, 16, 32, 57, 97])
+        # 97: jw, lw only; frames in solid are counted apart.
+        self.assertEqual([h["rollouts"] + h["in_solid_skipped"] for h in line["horizons"]], [5, 5, 5, 5, 2])
+        for horizon in line["horizons"]:
+            for kind in ("model", "repeat", "flat"):
+                self.assertGreater(horizon[kind]["psnr"], 0, horizon)
+                self.assertLessEqual(horizon[kind]["ssim"], 1, horizon)
+        for source in ("generated", "engine"):
+            motion = line["motion"][source]
+            self.assertEqual(motion["rollouts"], 5, motion)
+            self.assertEqual(motion["heading_error_deg"]["rollouts"], 3, motion)  # uw, jw, lw translate
+            self.assertGreaterEqual(motion["lost_frames"], 0, motion)
+        self.assertGreater(line["depth_abs_rel"]["frames"], 0, line["depth_abs_rel"])
+        self.assertGreater(line["depth_abs_rel"]["engine"], 0, line["depth_abs_rel"])
+        self.assertGreater(line["ms_per_frame"], 0)
+        sheet = os.path.join(out, "wm_oa_dm2_spawn0.png")
+        self.assertEqual(line["sheets"], [sheet])
+        with open(sheet, "rb") as handle:
+            self.assertTrue(handle.read(8).startswith(b"\x89PNG"))
+
+    def test_world_model_bench_with_a_missing_model_is_an_error_naming_it(self):
+        missing = os.path.join(self.scratch, "no_such_world_model.onnx")
+        status, _, err = run([tool("valerant_bench"), "wm", "--maps", "oa_dm2", "--model", missing])
+        self.assertEqual(status, 1, err)
+        self.assertIn(missing, err)
 
     def test_bad_launch_parameter_is_an_error_naming_it(self):
         # The graph's ROS parameters are overrides through the same strict loader as the

@@ -17,6 +17,7 @@ BenchRun addBenchGraph(CLI::App& bench);
 BenchRun addBenchMap(CLI::App& bench);
 BenchRun addBenchDepth(CLI::App& bench);
 BenchRun addBenchExtent(CLI::App& bench);
+BenchRun addBenchWorldModel(CLI::App& bench);
 
 // Peak resident memory of this process so far.
 double peakResidentMiB();

@@ -21,6 +21,7 @@
 #include "../tool_config.h"
 #include "bench.h"
 #include "valerant/config/package_dir.h"
+#include "valerant/eval/metric_depth_score.h"
 #include "valerant/slam/depth_prior.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/quake3/quake3_world.h"
@@ -29,34 +30,8 @@ namespace valerant::tools {
 namespace {
 
 constexpr size_t kFrameStride = 4;
-constexpr float kMinDepthM = 0.1f, kMaxDepthM = 80.0f;
 
-struct FrameScore {
-  double abs_rel = 0;  // mean |p - g| / g
-  double delta1 = 0;   // share of pixels with max(p/g, g/p) < 1.25
-};
-
-bool usableTruth(float g) { return g >= kMinDepthM && g <= kMaxDepthM; }  // false for NaN
 bool hasDepth(float d) { return std::isfinite(d) && d > 0; }
-
-// `estimate` (CV_32F, metres, NaN = none) times `scale` against `truth` (same size) over
-// the pixels where both exist; nothing when there is no such pixel.
-std::optional<FrameScore> score(const cv::Mat& estimate, const cv::Mat& truth, double scale) {
-  double abs_rel = 0, within = 0;
-  long pixels = 0;
-  for (int y = 0; y < truth.rows; ++y) {
-    for (int x = 0; x < truth.cols; ++x) {
-      const float g = truth.at<float>(y, x), e = estimate.at<float>(y, x);
-      if (!usableTruth(g) || !hasDepth(e)) continue;
-      const double p = scale * e;
-      abs_rel += std::abs(p - g) / g;
-      within += std::max(p / g, g / p) < 1.25 ? 1 : 0;
-      ++pixels;
-    }
-  }
-  if (pixels == 0) return std::nullopt;
-  return FrameScore{abs_rel / pixels, within / pixels};
-}
 
 double median(std::vector<double> v) {
   if (v.empty()) return std::nan("");
@@ -73,7 +48,7 @@ double medianScale(const cv::Mat& estimate, const cv::Mat& truth) {
   for (int y = 0; y < truth.rows; ++y)
     for (int x = 0; x < truth.cols; ++x) {
       const float g = truth.at<float>(y, x), e = estimate.at<float>(y, x);
-      if (usableTruth(g) && hasDepth(e)) ratios.push_back(g / e);
+      if (scoredTruthDepth(g) && hasDepth(e)) ratios.push_back(g / e);
     }
   return ratios.empty() ? 1.0 : median(std::move(ratios));
 }
@@ -81,7 +56,7 @@ double medianScale(const cv::Mat& estimate, const cv::Mat& truth) {
 // Per-frame scores averaged over all frames and over the rotation frames alone.
 class ScoreMeans {
  public:
-  void add(const FrameScore& s, bool rotation) {
+  void add(const MetricDepthScore& s, bool rotation) {
     all_.add(s);
     if (rotation) rotation_.add(s);
   }
@@ -98,7 +73,7 @@ class ScoreMeans {
   struct Mean {
     double abs_rel_sum = 0, delta1_sum = 0;
     int n = 0;
-    void add(const FrameScore& s) { abs_rel_sum += s.abs_rel, delta1_sum += s.delta1, ++n; }
+    void add(const MetricDepthScore& s) { abs_rel_sum += s.abs_rel, delta1_sum += s.delta1, ++n; }
     nlohmann::json absRel() const { return n ? nlohmann::json(abs_rel_sum / n) : nlohmann::json(nullptr); }
     nlohmann::json delta1() const { return n ? nlohmann::json(delta1_sum / n) : nlohmann::json(nullptr); }
   };
@@ -158,7 +133,7 @@ nlohmann::json runDepthBench(Config config, const std::optional<std::string>& ma
           const auto t0 = std::chrono::steady_clock::now();
           const DepthPrediction predicted = prior.predict(rollout.frames[i]);
           prior_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-          if (const auto s = score(predicted.depth_m, truth, 1.0)) prior_scores.add(*s, rotation);
+          if (const auto s = scoreMetricDepth(predicted.depth_m, truth)) prior_scores.add(*s, rotation);
 
           // Coverage over every scored frame, those without any plane-sweep depth included.
           const cv::Mat& sweep = tracked.depth;
@@ -168,7 +143,7 @@ nlohmann::json runDepthBench(Config config, const std::optional<std::string>& ma
           if (sweep.empty() || covered == 0) continue;
           cv::Mat sweep_small;
           cv::resize(sweep, sweep_small, net_size, 0, 0, cv::INTER_NEAREST);
-          if (const auto s = score(sweep_small, truth, medianScale(sweep_small, truth))) sweep_scores.add(*s, rotation);
+          if (const auto s = scoreMetricDepth(sweep_small, truth, medianScale(sweep_small, truth))) sweep_scores.add(*s, rotation);
         }
       }
     }
