@@ -6,7 +6,6 @@ train_depth.py on two tiny synthetic shards of different maps, whose ONNX output
 must load in cv2.dnn and match torch.
 
   smoke_test.py [--xml PATH]   # PATH: JUnit XML for scripts/count_test_results"""
-import argparse
 import json
 import math
 import os
@@ -14,7 +13,6 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import time
 import unittest
 import zipfile
 
@@ -26,7 +24,7 @@ import error_by_depth
 import train_depth
 from valerant_learn.depth_net import DepthNet, GlobalContext
 from valerant_learn.floor_prior import floor_log_depth
-from valerant_learn.junit import JUnitResult, write_junit
+from valerant_learn.junit import run_smoke_test
 from valerant_learn.log16 import decode_log16, encode_log16
 from valerant_learn.losses import decoupled_loss, laplace_nll, training_loss
 from valerant_learn.metrics import frame_calibration, frame_metrics
@@ -447,19 +445,5 @@ class TrainDepthTest(unittest.TestCase):
         return metrics
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--xml", metavar="PATH", help="write JUnit XML here")
-    args = parser.parse_args()
-    torch.set_num_threads(1)
-    cv2.setNumThreads(1)
-    suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__])
-    start = time.time()
-    result = unittest.TextTestRunner(verbosity=2, resultclass=JUnitResult).run(suite)
-    if args.xml:
-        write_junit(args.xml, result, time.time() - start, "learn_smoke_test")
-    return 0 if result.wasSuccessful() else 1
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_smoke_test(sys.modules[__name__], "learn_smoke_test"))

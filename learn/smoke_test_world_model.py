@@ -7,14 +7,12 @@ on tiny synthetic shards of a panorama seen through a turning camera, whose ONNX
 output must load in cv2.dnn and match torch.
 
   smoke_test_world_model.py [--xml PATH]   # PATH: JUnit XML for scripts/count_test_results"""
-import argparse
 import json
 import os
 import shutil
 import subprocess
 import sys
 import tempfile
-import time
 import unittest
 
 import cv2
@@ -23,7 +21,7 @@ import torch
 
 import train_world_model
 from split_shard import cut_points, split_shard
-from valerant_learn.junit import JUnitResult, write_junit
+from valerant_learn.junit import run_smoke_test
 from valerant_learn.shards import load_shards, write_shard
 from valerant_learn.world_data import WorldWindows, motion_between, split_sequences, wrap_degrees
 from valerant_learn.world_metrics import horizon_table, psnr, ssim
@@ -232,19 +230,5 @@ class TrainWorldModelTest(unittest.TestCase):
                               universal_newlines=True, timeout=120)
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--xml", metavar="PATH", help="write JUnit XML here")
-    args = parser.parse_args()
-    torch.set_num_threads(1)
-    cv2.setNumThreads(1)
-    suite = unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__])
-    start = time.time()
-    result = unittest.TextTestRunner(verbosity=2, resultclass=JUnitResult).run(suite)
-    if args.xml:
-        write_junit(args.xml, result, time.time() - start, "learn_smoke_test_world_model")
-    return 0 if result.wasSuccessful() else 1
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_smoke_test(sys.modules[__name__], "learn_smoke_test_world_model"))

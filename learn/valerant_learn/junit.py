@@ -1,8 +1,13 @@
-"""JUnit XML of a unittest run, for the learn/ smoke tests in scripts/test."""
+"""JUnit XML of a unittest run, and the command line both learn/ smoke tests share
+(scripts/test runs them with --xml)."""
+import argparse
 import os
 import time
 import unittest
 import xml.etree.ElementTree as ET
+
+import cv2
+import torch
 
 
 class JUnitResult(unittest.TextTestResult):
@@ -52,3 +57,19 @@ def write_junit(path, result, seconds, suite_name):
         ET.SubElement(case, "failure", message=problem.strip().splitlines()[-1]).text = problem
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
+
+
+def run_smoke_test(module, suite_name):
+    """The smoke tests' main(): parses --xml, runs the module's tests on one thread,
+    writes the JUnit XML there; returns the exit status."""
+    parser = argparse.ArgumentParser(description=module.__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--xml", metavar="PATH", help="write JUnit XML here")
+    args = parser.parse_args()
+    torch.set_num_threads(1)
+    cv2.setNumThreads(1)
+    suite = unittest.defaultTestLoader.loadTestsFromModule(module)
+    start = time.time()
+    result = unittest.TextTestRunner(verbosity=2, resultclass=JUnitResult).run(suite)
+    if args.xml:
+        write_junit(args.xml, result, time.time() - start, suite_name)
+    return 0 if result.wasSuccessful() else 1

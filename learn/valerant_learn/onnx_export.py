@@ -48,6 +48,17 @@ def inline_initializer_identities(graph):
     return len(removable)
 
 
+def save_checked(proto, path, properties):
+    """Replaces the model's metadata_props by `properties` (values as strings), runs
+    onnx.checker and writes the file."""
+    del proto.metadata_props[:]
+    for key, value in properties.items():
+        entry = proto.metadata_props.add()
+        entry.key, entry.value = key, str(value)
+    onnx.checker.check_model(proto)
+    onnx.save(proto, str(path))
+
+
 def _torch_export(model, height, width):
     options = {}
     # torch >= 2.9 defaults to the dynamo exporter, which cannot write opset 11.
@@ -109,12 +120,7 @@ def export_onnx(model, path, rgb, metadata):
         "input_height": height,
     }
     properties.update(metadata)
-    del proto.metadata_props[:]
-    for key, value in properties.items():
-        entry = proto.metadata_props.add()
-        entry.key, entry.value = key, str(value)
-    onnx.checker.check_model(proto)
-    onnx.save(proto, str(path))
+    save_checked(proto, path, properties)
     report = verify_with_opencv(path, model, rgb)
     report["identity_nodes_inlined"] = removed
     report["opset"] = OPSET

@@ -12,7 +12,7 @@ import onnx
 import torch
 
 from .depth_net import fold_batchnorm
-from .onnx_export import OPSET, inline_initializer_identities
+from .onnx_export import OPSET, inline_initializer_identities, save_checked
 from .world_net import INPUT_NAME, MOTION_CHANNELS, OUTPUT_NAME
 
 FORMAT_VERSION = "valerant-world-model-1"
@@ -71,12 +71,7 @@ def export_world_onnx(model, path, inputs, metadata):
         "input_height": model.height,
     }
     properties.update(metadata)
-    del proto.metadata_props[:]
-    for key, value in properties.items():
-        entry = proto.metadata_props.add()
-        entry.key, entry.value = key, str(value)
-    onnx.checker.check_model(proto)
-    onnx.save(proto, str(path))
+    save_checked(proto, path, properties)
     report = verify_with_opencv(path, model, inputs)
     report["identity_nodes_inlined"] = removed
     report["opset"] = OPSET

@@ -1,36 +1,18 @@
 #include "valerant/slam/depth_prior.h"
 
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <mutex>
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
 #include "valerant/common/error.h"
+#include "valerant/common/model_file.h"
 
 namespace valerant {
 namespace {
 
 const char* const kInputName = "rgb";
 const char* const kOutputName = "depth_and_scale";
-
-std::vector<uchar> readModelBytes(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path, "depth prior model file does not exist");
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "depth prior model is not a file");
-  std::ifstream in(path, std::ios::binary);
-  std::vector<uchar> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.good() && !in.eof()) throw InputError(path, "cannot read the depth prior model file");
-  return bytes;
-}
-
-std::string shapeText(const cv::Mat& m) {
-  std::string text = "[";
-  for (int d = 0; d < m.dims; ++d) text += (d ? "," : "") + std::to_string(m.size[d]);
-  return text + "]";
-}
 
 }  // namespace
 
@@ -90,14 +72,14 @@ cv::Mat forward(cv::dnn::Net& net, const cv::Mat& blob, const std::string& path)
     out = net.forward(kOutputName);
   } catch (const cv::Exception& e) {
     throw InputError(path, std::string("OpenCV cannot run the model with input '") + kInputName + "' " +
-                               shapeText(blob) + " (the size it was made for?) and output '" + kOutputName +
+                               blobShapeText(blob) + " (the size it was made for?) and output '" + kOutputName +
                                "': " + e.err);
   }
   const bool expected = out.dims == 4 && out.size[0] == 1 && out.size[1] == 2 && out.size[2] == blob.size[2] &&
                         out.size[3] == blob.size[3] && out.type() == CV_32F;
   if (!expected)
-    throw InputError(path, std::string("output '") + kOutputName + "' has shape " + shapeText(out) +
-                               (out.type() == CV_32F ? "" : " (not float32)") + " for input " + shapeText(blob) +
+    throw InputError(path, std::string("output '") + kOutputName + "' has shape " + blobShapeText(out) +
+                               (out.type() == CV_32F ? "" : " (not float32)") + " for input " + blobShapeText(blob) +
                                ", expected [1,2," + std::to_string(blob.size[2]) + "," +
                                std::to_string(blob.size[3]) + "] float32");
   return out.clone();
@@ -117,7 +99,7 @@ DepthPrior::DepthPrior(const std::string& model_path, cv::Size net_size)
   if (net_size.width <= 0 || net_size.height <= 0)
     throw InputError(model_path, "net input size " + std::to_string(net_size.width) + "x" +
                                      std::to_string(net_size.height) + " is not positive");
-  nets_ = std::make_unique<NetPool>(readModelBytes(model_path), model_path);
+  nets_ = std::make_unique<NetPool>(readModelFile(model_path, "depth prior model"), model_path);
   // Probe: a wrong interface fails here, not in the middle of a run.
   cv::dnn::Net net = nets_->take();
   forward(net, cv::Mat(std::vector<int>{1, 3, net_size.height, net_size.width}, CV_32F, cv::Scalar(0.5)), path_);

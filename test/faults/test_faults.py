@@ -218,6 +218,13 @@ class Faults(unittest.TestCase):
                 self.assertFilesWhole(out)
                 if complete_report(out) is not None:
                     continue  # it finished before the kill: a complete run is fine too
+                if not os.path.isfile(os.path.join(out, "config.yaml")):
+                    # Killed while loading, before the folder held a run (under load the
+                    # start takes longer than the delay): nothing to resume, and saying so.
+                    status, _, err = run([tool("valerant_explore"), "--resume", "--out", out])
+                    self.assertEqual(status, 1, err)
+                    self.assertIn("config.yaml", err)
+                    continue
                 # The map of the committed steps is recoverable from the snapshot.
                 snapshot = os.path.join(out, "snapshot")
                 if os.path.isdir(snapshot):

@@ -1,11 +1,9 @@
 #include "valerant/world/learned/world_model_net.h"
 
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <opencv2/imgproc.hpp>
 
 #include "valerant/common/error.h"
+#include "valerant/common/model_file.h"
 
 namespace valerant {
 namespace {
@@ -14,22 +12,6 @@ const char* const kInputName = "frames_and_motion";
 const char* const kOutputName = "warp_and_fill";
 constexpr int kMotionChannels = 4;  // forward_units, strafe_units, yaw_deg, pitch_deg
 constexpr int kOutputChannels = 6;  // dx, dy, mask, fill R, G, B
-
-std::vector<uchar> readModelBytes(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path, "world model file does not exist");
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "world model is not a file");
-  std::ifstream in(path, std::ios::binary);
-  std::vector<uchar> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.good() && !in.eof()) throw InputError(path, "cannot read the world model file");
-  return bytes;
-}
-
-std::string shapeText(const cv::Mat& m) {
-  std::string text = "[";
-  for (int d = 0; d < m.dims; ++d) text += (d ? "," : "") + std::to_string(m.size[d]);
-  return text + "]";
-}
 
 std::string expectedOutputText(int width, int height) {
   return "[1," + std::to_string(kOutputChannels) + "," + std::to_string(height) + "," + std::to_string(width) +
@@ -73,7 +55,7 @@ WorldModelNet::WorldModelNet(const std::string& path, int width, int height, int
   if (width <= 0 || height <= 0 || context_frames <= 0)
     throw InputError(path, "world model frame size " + std::to_string(width) + "x" + std::to_string(height) +
                                " and context " + std::to_string(context_frames) + " frames must be positive");
-  const std::vector<uchar> bytes = readModelBytes(path);
+  const std::vector<uchar> bytes = readModelFile(path, "world model");
   try {
     net_ = cv::dnn::readNetFromONNX(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   } catch (const cv::Exception& e) {
@@ -94,15 +76,15 @@ cv::Mat WorldModelNet::forward(const cv::Mat& blob) {
     out = net_.forward(kOutputName);
   } catch (const cv::Exception& e) {
     throw InputError(path_, std::string("OpenCV cannot run the world model with input '") + kInputName + "' " +
-                                shapeText(blob) + " (" + std::to_string(context_frames_) + " context frames of " +
+                                blobShapeText(blob) + " (" + std::to_string(context_frames_) + " context frames of " +
                                 std::to_string(width_) + "x" + std::to_string(height_) + ": the size it was made for?) and output '" +
                                 kOutputName + "': " + e.err);
   }
   const bool expected = out.dims == 4 && out.size[0] == 1 && out.size[1] == kOutputChannels && out.size[2] == height_ &&
                         out.size[3] == width_ && out.type() == CV_32F;
   if (!expected)
-    throw InputError(path_, std::string("output '") + kOutputName + "' has shape " + shapeText(out) +
-                                (out.type() == CV_32F ? "" : " (not float32)") + " for input " + shapeText(blob) +
+    throw InputError(path_, std::string("output '") + kOutputName + "' has shape " + blobShapeText(out) +
+                                (out.type() == CV_32F ? "" : " (not float32)") + " for input " + blobShapeText(blob) +
                                 ", expected " + expectedOutputText(width_, height_));
   return out.clone();  // forward's result may alias the Net's buffers
 }
