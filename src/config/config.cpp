@@ -183,9 +183,11 @@ void readPolicy(Section s, PolicyConfig& p) {
   s.number("step_cap_factor", p.step_cap_factor, 1, 1000);
   s.number("goal_weight", p.goal_weight, 0.0, 1e6);
   s.number("obstacle_min_points", p.obstacle_min_points, 1, 1000000);
+  s.number("max_cell_rise", p.max_cell_rise, 0.0, 100.0);
   s.numbers("short_translation_frames", p.short_translation_frames, 1, 10000);
   s.numbers("short_turn_frames", p.short_turn_frames, 1, 10000);
   s.boolean("open_turn", p.open_turn);
+  s.boolean("goal_move", p.goal_move);
   s.number("opening_weight", p.opening_weight, 0.0, 1e6);
   s.finish();
 }

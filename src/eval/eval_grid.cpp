@@ -29,12 +29,13 @@ const std::map<std::string, std::vector<std::string>>& configOverrides() {
       // full with the whole-level options on (docs/whole_level.md; off by default).
       {"whole-level",
        {"policy.goal_weight=1", "policy.short_translation_frames=[32,16]", "policy.short_turn_frames=[28]",
-        "policy.open_turn=true", "policy.opening_weight=0.5"}},
+        "policy.open_turn=true", "policy.opening_weight=0.5", "policy.goal_move=true",
+        "policy.max_cell_rise=0.7"}},
       // The paper's method without our additions: config/paper.yaml's overrides (a unit
       // test keeps the two the same); the grid's --budget sets the steps.
       {"paper",
        {"policy.grid_cells=128", "policy.goal_weight=0", "policy.short_translation_frames=[]",
-        "policy.short_turn_frames=[]", "policy.open_turn=false", "policy.opening_weight=0",
+        "policy.short_turn_frames=[]", "policy.open_turn=false", "policy.opening_weight=0", "policy.goal_move=false", "policy.max_cell_rise=0",
         "collision.previous_steps=0", "collision.prefix_commits=false"}},
   };
   return overrides;

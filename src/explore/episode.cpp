@@ -8,6 +8,7 @@
 #include "valerant/explore/kept_truth.h"
 #include "valerant/explore/local_branch_pipeline.h"
 #include "valerant/geometry/frontier_distance.h"
+#include "valerant/geometry/goal_move.h"
 #include "valerant/geometry/open_direction.h"
 
 namespace valerant {
@@ -80,12 +81,15 @@ void Episode::rebuildGrid() {
 void Episode::markGrid(const FusedKeyframe& keyframe) {
   // Floor points mark observed floor; points at body height (the collision test's band)
   // mark obstacles, which only the whole-level terms read (coverage_grid.h).
+  // With the surface layer every point below the band's top (not overhead) also marks
+  // the height of what stands in its cell.
   const CollisionConfig& band = config_.collision;
   for (const auto& p : keyframe.points) {
     if (std::abs(p.h) < band.height_low)
       grid_->markObservedFloor(p.position.cast<double>());
     else if (p.h <= band.height_high)
       grid_->markObstaclePoint(p.position.cast<double>());
+    if (p.h <= band.height_high) grid_->markSurfacePoint(p.position.cast<double>());
   }
 }
 
@@ -122,7 +126,14 @@ StepRecord Episode::step() {
   grid_->cellOf(trajectory_.back().translation(), start_cell);
 
   Candidates judged;
-  judge(candidateNames(), start_cell, record, judged);
+  std::vector<std::string> first_round = candidateNames();
+  const auto t_move = std::chrono::steady_clock::now();
+  const std::optional<std::string> goal_move = goalMoveAction();
+  record.seconds.policy += secondsSince(t_move);
+  if (goal_move && std::find(first_round.begin(), first_round.end(), *goal_move) == first_round.end())
+    first_round.push_back(*goal_move);
+  judge(first_round, start_cell, record, judged);
+  holdToClearEnd(judged, candidateNames().size());
   const uint64_t step_seed = (uint64_t{config_.world.seed} << 32) + record.step;
   auto select = [&] {
     const auto t = std::chrono::steady_clock::now();
@@ -143,10 +154,7 @@ StepRecord Episode::step() {
     if (names.empty()) continue;
     const size_t first_new = judged.verdicts.size();
     judge(names, start_cell, record, judged);
-    for (size_t i = first_new; i < judged.verdicts.size(); ++i) {
-      BranchVerdict& v = judged.verdicts[i];
-      v.short_unclear = !v.rotation_only && v.prefix_frames < static_cast<int>(judged.results[i].poses.size());
-    }
+    holdToClearEnd(judged, first_new);
     select();
   }
   const auto& results = judged.results;
@@ -243,6 +251,26 @@ std::optional<double> Episode::openTurnDeg() const {
   return std::nullopt;
 }
 
+std::optional<std::string> Episode::goalMoveAction() const {
+  if (!config_.policy.goal_move) return std::nullopt;
+  const Eigen::Isometry3d& pose = trajectory_.back();
+  Cell here;
+  if (!grid_->cellOf(pose.translation(), here)) return std::nullopt;
+  const std::set<Cell> blocked = blockedFrom(here);
+  const FrontierDistance goal(*grid_, blocked);
+  const auto move = goalMove(*grid_, blocked, goal, grid_->cellCoordinates(pose.translation()),
+                             floorAngle(*grid_, pose.linear().col(2)), grid_->cellsPerForwardAction());
+  if (!move) return std::nullopt;
+  return goalMoveName(move->turn_deg, move->walk_cells, config_);
+}
+
+void Episode::holdToClearEnd(Candidates& judged, size_t first) {
+  for (size_t i = first; i < judged.verdicts.size(); ++i) {
+    BranchVerdict& v = judged.verdicts[i];
+    v.short_unclear = !v.rotation_only && v.prefix_frames < static_cast<int>(judged.results[i].poses.size());
+  }
+}
+
 bool Episode::movesOn(const Candidates& judged) {
   for (const BranchVerdict& v : judged.verdicts)
     if (v.admissible && !v.rotation_only) return true;
@@ -269,8 +297,10 @@ std::vector<std::string> Episode::cleanPrefixes(const Candidates& judged) const 
   if (!config_.collision.prefix_commits) return {};
   if (movesOn(judged)) return {};  // the paper's own candidates move on
   std::vector<std::string> names;
+  const auto& paper = candidateNames();
   for (size_t i = 0; i < judged.verdicts.size(); ++i) {
     const BranchVerdict& v = judged.verdicts[i];
+    if (std::find(paper.begin(), paper.end(), v.candidate) == paper.end()) continue;  // the goal move has none
     const int frames = static_cast<int>(judged.results[i].poses.size());
     if (!v.rotation_only && v.prefix_frames > 0 && v.prefix_frames < frames)
       names.push_back(prefixName(v.candidate, v.prefix_frames));

@@ -7,12 +7,12 @@ namespace valerant {
 
 CoverageGrid::CoverageGrid(const PolicyConfig& config, const FloorPlane& anchor, const Eigen::Vector3d& heading,
                            double d_fwd_normalised)
-    : config_(config), size_(config.grid_cells) {
+    : config_(config), size_(config.grid_cells), surface_(config.max_cell_rise, config.obstacle_min_points) {
   normal_ = anchor.n.normalized();
-  const double kappa = anchor.cameraHeight();
-  d_fwd_map_ = d_fwd_normalised * kappa;
+  kappa_ = anchor.cameraHeight();
+  d_fwd_map_ = d_fwd_normalised * kappa_;
   cell_size_ = d_fwd_map_ / config.cells_per_d_fwd;
-  origin_ = anchor.c - kappa * normal_;  // the anchor camera's foot point
+  origin_ = anchor.c - kappa_ * normal_;  // the anchor camera's foot point
   axis_u_ = heading - heading.dot(normal_) * normal_;
   if (axis_u_.norm() < 1e-9) axis_u_ = normal_.unitOrthogonal();  // looking straight down
   axis_u_.normalize();
@@ -23,10 +23,9 @@ CoverageGrid::CoverageGrid(const PolicyConfig& config, const FloorPlane& anchor,
 }
 
 bool CoverageGrid::cellOf(const Eigen::Vector3d& p, Cell& cell) const {
-  const Eigen::Vector2d uv = floorCoordinates(p);
   // The anchor sits at the centre of cell (size/2, size/2).
-  cell = {static_cast<int>(std::floor(uv.x() / cell_size_ + 0.5)) + size_ / 2,
-          static_cast<int>(std::floor(uv.y() / cell_size_ + 0.5)) + size_ / 2};
+  const Eigen::Vector2d at = cellCoordinates(p);
+  cell = {static_cast<int>(std::floor(at.x() + 0.5)), static_cast<int>(std::floor(at.y() + 0.5))};
   return inside(cell);
 }
 
@@ -36,7 +35,36 @@ Eigen::Vector3d CoverageGrid::cellCentre(const Cell& c) const {
 
 void CoverageGrid::markVisited(const Eigen::Vector3d& camera_centre) {
   Cell c;
-  if (cellOf(camera_centre, c)) visited_[index(c)] = 1;
+  if (!cellOf(camera_centre, c)) return;
+  visited_[index(c)] = 1;
+  if (surfaces()) surface_.addStand(index(c), heightOf(camera_centre) - 1.0);  // the eye is one eye height up
+}
+
+void CoverageGrid::markSurfacePoint(const Eigen::Vector3d& point) {
+  Cell c;
+  if (surfaces() && cellOf(point, c)) surface_.addPoint(index(c), heightOf(point));
+}
+
+bool CoverageGrid::walkable(const Cell& c) const {
+  if (visited(c)) return true;
+  if (surfaces()) return inside(c) && surface_.height(index(c)).has_value();
+  return observed(c) && !obstacle(c);
+}
+
+bool CoverageGrid::unknown(const Cell& c) const {
+  if (!inside(c) || visited(c)) return false;
+  if (surfaces()) return !surface_.seen(index(c));
+  return !observed(c) && !obstacle(c);
+}
+
+bool CoverageGrid::traversable(const Cell& from, const Cell& to) const {
+  if (!walkable(to)) return false;
+  return !surfaces() || (inside(from) && surface_.step(index(from), index(to)));
+}
+
+bool CoverageGrid::seenWalkable(const Cell& c) const {
+  if (surfaces()) return inside(c) && surface_.seen(index(c)) && walkable(c);
+  return observed(c) && walkable(c);
 }
 
 void CoverageGrid::markObservedFloor(const Eigen::Vector3d& point) {

@@ -29,7 +29,7 @@ FrontierDistance::FrontierDistance(const CoverageGrid& grid, std::set<Cell> bloc
       for (int dj = -1; dj <= 1; ++dj) {
         if (di == 0 && dj == 0) continue;
         const Cell next{c.first + di, c.second + dj};
-        if (!passable(next)) continue;
+        if (!passable(c, next)) continue;
         const double through = d + (di != 0 && dj != 0 ? kDiagonal : 1.0);
         if (through < distance_[index(next)]) {
           distance_[index(next)] = through;
@@ -39,10 +39,12 @@ FrontierDistance::FrontierDistance(const CoverageGrid& grid, std::set<Cell> bloc
   }
 }
 
-bool FrontierDistance::passable(const Cell& c) const { return grid_.walkable(c) && !blocked_.count(c); }
+bool FrontierDistance::passable(const Cell& from, const Cell& to) const {
+  return grid_.traversable(from, to) && !blocked_.count(to);
+}
 
 bool FrontierDistance::isGoalFrontier(const Cell& c) const {
-  if (!grid_.observed(c) || !passable(c)) return false;
+  if (!grid_.seenWalkable(c) || blocked_.count(c)) return false;
   const Cell neighbours[] = {{c.first + 1, c.second}, {c.first - 1, c.second},
                              {c.first, c.second + 1}, {c.first, c.second - 1}};
   for (const Cell& n : neighbours)
@@ -55,8 +57,9 @@ double FrontierDistance::at(const Cell& c) const {
   return distance_[static_cast<size_t>(c.first) * grid_.size() + c.second];
 }
 
-std::optional<Cell> FrontierDistance::waypoint(const Cell& start, double max_cells) const {
-  if (!std::isfinite(at(start))) return std::nullopt;
+std::vector<Cell> FrontierDistance::path(const Cell& start, double max_cells) const {
+  std::vector<Cell> cells;
+  if (!std::isfinite(at(start))) return cells;
   Cell c = start;
   double walked = 0;
   while (at(c) > 0 && walked < max_cells) {
@@ -70,14 +73,21 @@ std::optional<Cell> FrontierDistance::waypoint(const Cell& start, double max_cel
     if (next == c) break;  // no descent: impossible on a Dijkstra field, but never loop
     c = next;
     walked += step;
+    cells.push_back(c);
   }
-  if (at(c) == 0) {
+  return cells;
+}
+
+std::optional<Cell> FrontierDistance::waypoint(const Cell& start, double max_cells) const {
+  const std::vector<Cell> cells = path(start, max_cells);
+  const Cell c = cells.empty() ? start : cells.back();
+  if (std::isfinite(at(c)) && at(c) == 0) {
     const Cell beyond[] = {{c.first + 1, c.second}, {c.first - 1, c.second}, {c.first, c.second + 1},
                            {c.first, c.second - 1}};
     for (const Cell& n : beyond)
       if (grid_.unknown(n)) return n;
   }
-  if (c == start) return std::nullopt;
+  if (cells.empty()) return std::nullopt;
   return c;
 }
 

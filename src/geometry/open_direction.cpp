@@ -23,13 +23,21 @@ double turnDeg(double from, double to) {
 
 double freeRayCells(const CoverageGrid& grid, const std::set<Cell>& blocked, const Cell& from, double angle,
                     double max_cells) {
+  return freeRayCells(grid, blocked, Eigen::Vector2d(from.first, from.second), angle, max_cells);
+}
+
+double freeRayCells(const CoverageGrid& grid, const std::set<Cell>& blocked, const Eigen::Vector2d& from,
+                    double angle, double max_cells) {
   const double step = 0.5;
   const double du = std::cos(angle), dv = std::sin(angle);
   double walked = 0;
+  Cell previous{static_cast<int>(std::floor(from.x() + 0.5)), static_cast<int>(std::floor(from.y() + 0.5))};
+  if (!grid.walkable(previous) || blocked.count(previous)) return 0;  // no ray out of a blocked cell
   for (double t = step; t <= max_cells + 1e-9; t += step) {
-    const Cell c{static_cast<int>(std::floor(from.first + t * du + 0.5)),
-                 static_cast<int>(std::floor(from.second + t * dv + 0.5))};
-    if (!grid.walkable(c) || blocked.count(c)) break;
+    const Cell c{static_cast<int>(std::floor(from.x() + t * du + 0.5)),
+                 static_cast<int>(std::floor(from.y() + t * dv + 0.5))};
+    if (c != previous && (!grid.traversable(previous, c) || blocked.count(c))) break;
+    previous = c;
     walked = t;
   }
   return walked;

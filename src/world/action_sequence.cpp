@@ -72,17 +72,54 @@ std::optional<std::string> turnCandidate(const std::string& name) {
   return std::nullopt;
 }
 
+// The branch of a key string (see baseCandidate), or nothing when `keys` is not made
+// of KEYS:FRAMES segments; the keys themselves are checked by makeActionSequence.
+std::optional<std::string> keyStringBranch(const std::string& keys) {
+  std::stringstream in(keys);
+  std::string segment;
+  bool moves = false;
+  long net_turn = 0;
+  while (std::getline(in, segment, ',')) {
+    const size_t colon = segment.find(':');
+    if (colon == std::string::npos || colon == 0) return std::nullopt;
+    const std::optional<int> frames = wholeInteger<int>(segment.substr(colon + 1));
+    if (!frames) return std::nullopt;
+    for (const char k : segment.substr(0, colon)) {
+      if (k == 'w' || k == 's' || k == 'a' || k == 'd') moves = true;
+      if (k == 'j') net_turn += *frames;
+      if (k == 'l') net_turn -= *frames;
+    }
+  }
+  if (moves) return std::string("uw");
+  return std::string(net_turn >= 0 ? "jq" : "lq");
+}
+
 }  // namespace
 
 std::string baseCandidate(const std::string& name) {
   if (const auto turn = turnCandidate(name)) return *turn;
-  return splitPrefix(name).first;
+  const auto [base, frames] = splitPrefix(name);
+  if (frames >= 0) return base;
+  const auto& names = candidateNames();
+  if (std::find(names.begin(), names.end(), name) != names.end()) return name;
+  if (const auto branch = keyStringBranch(name)) return *branch;
+  return name;
 }
 
 std::string turnName(double yaw_deg, const Config& config) {
   const double rate = config.rollout.rotate_deg / config.rollout.horizon_frames;
   const int frames = std::max(1, static_cast<int>(std::lround(std::abs(yaw_deg) / rate)));
   return std::string(yaw_deg >= 0 ? "jq" : "lq") + ":" + std::to_string(frames);
+}
+
+std::string goalMoveName(double turn_deg, double walk_cells, const Config& config) {
+  const int walk_frames = std::max(
+      1, static_cast<int>(std::lround(walk_cells / config.policy.cells_per_d_fwd * config.rollout.horizon_frames)));
+  const std::string walk = "w:" + std::to_string(walk_frames);
+  const double rate = config.rollout.rotate_deg / config.rollout.horizon_frames;
+  const long turn_frames = std::lround(std::abs(turn_deg) / rate);
+  if (turn_frames == 0) return walk;
+  return std::string(turn_deg >= 0 ? "j:" : "l:") + std::to_string(turn_frames) + "," + walk;
 }
 
 std::string describeAction(const std::string& name, const Config& config) {

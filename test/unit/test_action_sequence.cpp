@@ -94,9 +94,28 @@ TEST(ActionSequence, TurnsOfAnyLengthRunOnTheirCandidatesBranch) {
   EXPECT_TRUE(right.rotationOnly());
   EXPECT_EQ(baseCandidate("lq:114"), "lq");
   EXPECT_EQ(baseCandidate("jq:29"), "jq");
-  EXPECT_EQ(baseCandidate("w:40"), "w:40");  // any other key string is no candidate
   // Short turns are prefixes: jq@28 turns 28 * 90/57 degrees.
   EXPECT_NEAR(makeActionSequence("jq@28", c).totalYawDeg(), 28 * 90.0 / 57, 1e-9);
+}
+
+TEST(ActionSequence, GoalMovesTurnThenWalkOnUwsBranch) {
+  const Config c;  // 90/57 degrees a frame in place; 8 cells (one forward action) in 57 frames
+  // 36 degrees right: 36 / (90/57) = 22.8 -> 23 frames; 5.75 cells: 5.75 / 8 * 57 = 40.97 -> 41.
+  EXPECT_EQ(goalMoveName(-36.0, 5.75, c), "l:23,w:41");
+  EXPECT_EQ(goalMoveName(0.5, 5.75, c), "w:41");      // 0.32 frames of turn: none
+  EXPECT_EQ(goalMoveName(90.0, 0.05, c), "j:57,w:1");  // at least one frame of walk
+  const ActionSequence move = makeActionSequence("l:23,w:41", c);
+  ASSERT_EQ(move.steps.size(), 64u);
+  EXPECT_NEAR(move.totalYawDeg(), -23 * 90.0 / 57, 1e-9);
+  EXPECT_NEAR(move.totalForwardUnits(), 41 * 256.0 / 57, 1e-9);
+  EXPECT_DOUBLE_EQ(move.steps[22].forward_units, 0.0);  // the turn is in place ...
+  EXPECT_DOUBLE_EQ(move.steps[23].yaw_deg, 0.0);        // ... then the walk is straight
+  // Key strings run on the branch of the candidate they are like.
+  EXPECT_EQ(baseCandidate("l:23,w:41"), "uw");
+  EXPECT_EQ(baseCandidate("w:40"), "uw");
+  EXPECT_EQ(baseCandidate("j:3,l:5"), "lq");  // net 2 frames right
+  EXPECT_EQ(baseCandidate("q:3"), "jq");
+  EXPECT_EQ(baseCandidate("nonsense"), "nonsense");  // no KEYS:FRAMES: returned whole
 }
 
 TEST(ActionSequence, DescriptionsSayWhatAnActionDoes) {

@@ -329,6 +329,10 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
             "--set policy.goal_weight=-1: policy.goal_weight: value -1 outside [0, 1e+06]");
   EXPECT_EQ(errorOfOverride("policy.open_turn", "maybe"),
             "--set policy.open_turn=maybe: policy.open_turn: expected true or false, got 'maybe'");
+  EXPECT_EQ(errorOfOverride("policy.max_cell_rise", "-0.1"),
+            "--set policy.max_cell_rise=-0.1: policy.max_cell_rise: value -0.1 outside [0, 100]");
+  EXPECT_EQ(errorOfOverride("policy.goal_move", "1.5"),
+            "--set policy.goal_move=1.5: policy.goal_move: expected true or false, got '1.5'");
 }
 
 TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
@@ -341,6 +345,8 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.policy.short_turn_frames, built_in.short_turn_frames);
   EXPECT_EQ(shipped.policy.open_turn, built_in.open_turn);
   EXPECT_EQ(shipped.policy.opening_weight, built_in.opening_weight);
+  EXPECT_EQ(shipped.policy.goal_move, built_in.goal_move);
+  EXPECT_EQ(shipped.policy.max_cell_rise, built_in.max_cell_rise);
 }
 
 TEST(Config, LearnedWorldSectionHasTheModelsContractAndRanges) {

@@ -54,11 +54,14 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(whole_level.policy.short_turn_frames, (std::vector<int>{28}));
   EXPECT_TRUE(whole_level.policy.open_turn);
   EXPECT_DOUBLE_EQ(whole_level.policy.opening_weight, 0.5);
+  EXPECT_TRUE(whole_level.policy.goal_move);
+  EXPECT_DOUBLE_EQ(whole_level.policy.max_cell_rise, 0.7);
   EXPECT_TRUE(whole_level.collision.prefix_commits);  // our older additions stay
   const Config full = overridden("full");  // the whole-level options are off by default
   EXPECT_DOUBLE_EQ(full.policy.goal_weight, 0.0);
   EXPECT_TRUE(full.policy.short_translation_frames.empty());
   EXPECT_FALSE(full.policy.open_turn);
+  EXPECT_FALSE(full.policy.goal_move);
   // The paper row is config/paper.yaml (its budget aside, which the grid sets).
   const Config paper_row = overridden("paper");
   const Config paper_file = loadConfig(std::string(VALERANT_SOURCE_DIR) + "/config/paper.yaml");
@@ -70,6 +73,8 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(paper_row.policy.short_turn_frames, paper_file.policy.short_turn_frames);
   EXPECT_EQ(paper_row.policy.open_turn, paper_file.policy.open_turn);
   EXPECT_EQ(paper_row.policy.opening_weight, paper_file.policy.opening_weight);
+  EXPECT_EQ(paper_row.policy.goal_move, paper_file.policy.goal_move);
+  EXPECT_EQ(paper_row.policy.max_cell_rise, paper_file.policy.max_cell_rise);
   EXPECT_EQ(paper_row.collision.previous_steps, paper_file.collision.previous_steps);
   EXPECT_EQ(paper_row.collision.prefix_commits, paper_file.collision.prefix_commits);
   EXPECT_FALSE(paper_file.collision.prefix_commits);

@@ -93,3 +93,17 @@ TEST(FrontierDistance, WaypointFollowsThePathIntoTheUnknown) {
   const FrontierDistance cut(g, {roomCell(1, -1), roomCell(1, 0), roomCell(1, 1)});
   EXPECT_FALSE(cut.waypoint(roomCell(3, 0), 8));
 }
+
+TEST(FrontierDistance, PathDescendsToTheFrontier) {
+  const CoverageGrid g = test::walledRoomGrid();
+  const FrontierDistance d(g, {});
+  // From the far corner (4, 1): the diagonal to (3, 0) (D 3 against 3 + sqrt 2 for
+  // (3, 1)), then straight west to the frontier (0, 0), where the path ends.
+  EXPECT_EQ(d.path(roomCell(4, 1), 8),
+            (std::vector<Cell>{roomCell(3, 0), roomCell(2, 0), roomCell(1, 0), roomCell(0, 0)}));
+  // At most 2 cells of path: sqrt 2 + 1 reaches 2 after the second cell.
+  EXPECT_EQ(d.path(roomCell(4, 1), 2), (std::vector<Cell>{roomCell(3, 0), roomCell(2, 0)}));
+  EXPECT_TRUE(d.path(roomCell(0, 0), 8).empty());  // on the frontier
+  const FrontierDistance cut(g, {roomCell(1, -1), roomCell(1, 0), roomCell(1, 1)});
+  EXPECT_TRUE(cut.path(roomCell(3, 0), 8).empty());  // none reachable
+}

@@ -76,12 +76,19 @@ struct PolicyConfig {
   // (frontier_distance.h); cells with obstacle_min_points obstacle points block the path.
   double goal_weight = 0;
   int obstacle_min_points = 3;
+  // Surface layer (surface_layer.h): the largest rise in eye heights between neighbouring
+  // cells the whole-level paths step over, and within one cell's surface; 0 = the flat
+  // model (floor and obstacle points over each keyframe's own floor).
+  double max_cell_rise = 0;
   // When no translation (full or clean prefix) is admissible: fixed-length prefixes of
   // uw, jw, lw (frames, longest first) and shorter in-place turns (frames of jq, lq) ...
   std::vector<int> short_translation_frames;
   std::vector<int> short_turn_frames;
   // ... and the turn to the most open measured direction (open_direction.h).
   bool open_turn = false;
+  // Every step, also judge the goal move: the turn and straight walk along the shortest
+  // path to the nearest reachable frontier (goal_move.h), at most one forward action.
+  bool goal_move = false;
   // Score term opening_weight * O of an in-place turn, O the free floor ahead of its
   // final heading in forward actions (open_direction.h).
   double opening_weight = 0;

@@ -24,8 +24,9 @@ struct BranchVerdict {
   // reachable frontier (frontier_distance.h), and O, the opening ahead of an in-place
   // turn's final heading (open_direction.h; 0 for a translation).
   double goal = 0, opening = 0;
-  // [ours] A short translation (policy.short_translation_frames) whose clean prefix is
-  // shorter than itself: short actions end in front of walls by design, and the paper's
+  // [ours] A short translation (policy.short_translation_frames) or goal move
+  // (policy.goal_move) whose clean prefix is shorter than itself: such actions end in
+  // front of walls by design, and the paper's
   // tests let a rollout's last frames come close (s_min(l) shrinks to 0 at its end), so
   // they are held to the clean prefix's margins (clean_prefix.h) to their last frame.
   bool short_unclear = false;

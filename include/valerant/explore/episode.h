@@ -9,6 +9,8 @@
 // (eq. 8). When none of the five translations is admissible, the clean prefixes of the
 // rejected ones are judged too and the choice is made again ([ours], clean_prefix.h);
 // then, while still none is, shorter translations and turns ([ours], roomActionRounds).
+// With policy.goal_move, every step also judges the move along the path to the nearest
+// frontier ([ours], goal_move.h).
 // Every candidate also gets the whole-level terms G and O (docs/whole_level.md).
 // The same step code runs with in-process components (valerant_explore) and with the
 // ROS graph's proxies (the explorer node): one code path, the same decisions.
@@ -118,6 +120,12 @@ class Episode {
   // open_turn; docs/whole_level.md): rounds judged in order while no translation is
   // admissible: each short length's uw, jw, lw, then the short and open turns.
   std::vector<std::vector<std::string>> roomActionRounds() const;
+  // [ours] The goal move's key string (policy.goal_move, goal_move.h); empty when it is
+  // off or there is no move along a path to a frontier.
+  std::optional<std::string> goalMoveAction() const;
+  // Holds the verdicts of judged[first..] to their clean prefix to their last frame
+  // (BranchVerdict::short_unclear): actions that end in front of walls by design.
+  static void holdToClearEnd(Candidates& judged, size_t first);
   // The turn of the open-turn candidate, degrees left: toward the goal's waypoint
   // (frontier_distance.h) when it lies off the heading, else to the longest free ray.
   std::optional<double> openTurnDeg() const;

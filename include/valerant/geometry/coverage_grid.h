@@ -26,6 +26,12 @@
 //  - obstacle: a cell holding at least obstacle_min_points obstacle points.
 //  - walkable: a visited cell (the agent stood there), or observed floor that is no obstacle.
 //  - unknown:  neither observed floor, obstacle nor visited.
+// With policy.max_cell_rise > 0 a fourth layer, the surfaces (surface_layer.h), replaces
+// the last two for the whole-level terms, storeys and stairs included:
+//  - walkable: a cell with a surface height (visited cells: the floor stood on);
+//  - unknown:  no point seen in it and not visited;
+//  - a step between neighbours (traversable): both walkable, heights within max_cell_rise.
+// Without it a step is any walkable neighbour: the flat model.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <set>
@@ -34,6 +40,7 @@
 
 #include "valerant/config/config.h"
 #include "valerant/geometry/floor_plane.h"
+#include "valerant/geometry/surface_layer.h"
 
 namespace valerant {
 
@@ -63,13 +70,24 @@ class CoverageGrid {
   void markVisited(const Eigen::Vector3d& camera_centre);
   void markObservedFloor(const Eigen::Vector3d& point);
   void markObstaclePoint(const Eigen::Vector3d& point);
+  // A map point for the surface layer (one below the obstacle band's top over its own
+  // keyframe's floor); ignored without the layer.
+  void markSurfacePoint(const Eigen::Vector3d& point);
+  bool surfaces() const { return config_.max_cell_rise > 0; }
+  // Normalised height of a map-frame point over the anchor floor.
+  double heightOf(const Eigen::Vector3d& p) const { return normal_.dot(p - origin_) / kappa_; }
   bool visited(const Cell& c) const { return inside(c) && visited_[index(c)]; }
   bool observed(const Cell& c) const { return inside(c) && observed_[index(c)]; }
   bool obstacle(const Cell& c) const {
     return inside(c) && obstacle_points_[index(c)] >= static_cast<uint32_t>(config_.obstacle_min_points);
   }
-  bool walkable(const Cell& c) const { return visited(c) || (observed(c) && !obstacle(c)); }
-  bool unknown(const Cell& c) const { return inside(c) && !observed(c) && !visited(c) && !obstacle(c); }
+  bool walkable(const Cell& c) const;
+  bool unknown(const Cell& c) const;
+  // Whether the agent can walk from `from` into its neighbour `to` (see above).
+  bool traversable(const Cell& from, const Cell& to) const;
+  // A surface seen in the cell, not only stood on: the layer's `seen` (with surfaces),
+  // else observed floor.
+  bool seenWalkable(const Cell& c) const;
   bool inside(const Cell& c) const { return c.first >= 0 && c.second >= 0 && c.first < size_ && c.second < size_; }
   bool isFrontier(const Cell& c) const;
 
@@ -81,6 +99,11 @@ class CoverageGrid {
     const Eigen::Vector3d d = p - origin_;
     return {d.dot(axis_u_), d.dot(axis_v_)};
   }
+  // Where a map-frame point lies on the grid, in cells: cell (i, j) spans
+  // [i - 1/2, i + 1/2) x [j - 1/2, j + 1/2), so cellOf rounds these coordinates.
+  Eigen::Vector2d cellCoordinates(const Eigen::Vector3d& p) const {
+    return floorCoordinates(p) / cell_size_ + Eigen::Vector2d::Constant(size_ / 2);
+  }
   // Map-frame position of a cell centre on the anchor floor (for drawing).
   Eigen::Vector3d cellCentre(const Cell& c) const;
 
@@ -90,10 +113,11 @@ class CoverageGrid {
 
   PolicyConfig config_;
   int size_;
-  double cell_size_, d_fwd_map_;
+  double cell_size_, d_fwd_map_, kappa_;
   Eigen::Vector3d origin_, axis_u_, axis_v_, normal_;
   std::vector<uint8_t> visited_, observed_;
   std::vector<uint32_t> obstacle_points_;
+  SurfaceLayer surface_;
 };
 
 }  // namespace valerant

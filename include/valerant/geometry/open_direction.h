@@ -3,9 +3,11 @@
 // policy.open_turn and policy.opening_weight; docs/whole_level.md). Angles lie on the
 // anchor floor in the grid's axes (u, v), counter-clockwise seen from above (v = n x u,
 // so a left turn increases the angle).
-//  - free ray R(c, phi, max): from the centre of cell c along phi, the distance in cells
-//    walked over walkable cells outside `blocked` (F), sampled every half cell, before
-//    the first sample that is not; at most `max`.
+//  - free ray R(c, phi, max): from the centre of cell c (or any point) along phi, the
+//    distance in cells walked, sampled every half cell, before the first sample whose
+//    cell is in `blocked` (F) or cannot be stepped into from the cell before it
+//    (CoverageGrid::traversable: walkable, and with the surface layer no higher or lower
+//    than max_cell_rise); at most `max`.
 //  - opening O(c, phi) = R(c, phi, cells_per_d_fwd) / cells_per_d_fwd, in [0, 1]: the
 //    share of a forward action that fits ahead of a heading.
 //  - open direction: among `rays` angles evenly spaced from the current heading whose
@@ -30,6 +32,9 @@ double turnDeg(double from, double to);
 
 double freeRayCells(const CoverageGrid& grid, const std::set<Cell>& blocked, const Cell& from, double angle,
                     double max_cells);
+// The same from any point in cell coordinates (CoverageGrid::cellCoordinates), not a cell's centre.
+double freeRayCells(const CoverageGrid& grid, const std::set<Cell>& blocked, const Eigen::Vector2d& from,
+                    double angle, double max_cells);
 
 double opening(const CoverageGrid& grid, const std::set<Cell>& blocked, const Cell& from, double angle);
 

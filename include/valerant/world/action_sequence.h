@@ -14,6 +14,9 @@
 // for 114 frames (180 degrees right): the turn to the open direction ([ours],
 // policy.open_turn). It is also a key string ('j' / 'l' turn, 'q' stands still), read
 // as such; its candidate (the branch it runs on in the ROS graph) is jq or lq.
+// The goal move ([ours], policy.goal_move; geometry/goal_move.h) is a key string of
+// an in-place turn, then a walk, e.g. "l:23,w:41"; like any key string that moves, it
+// runs on uw's branch in the ROS graph.
 #include <string>
 #include <vector>
 
@@ -42,11 +45,17 @@ const std::vector<std::string>& candidateNames();
 // "uw@31" for the first 31 frames of uw (makeActionSequence checks the count).
 std::string prefixName(const std::string& candidate, int frames);
 // The paper candidate a name is (a prefix or a turn of): "uw@31" -> "uw", "jq" -> "jq",
-// "lq:114" -> "lq"; any other key string is returned whole.
+// "lq:114" -> "lq"; the branch a key string runs on: "uw" when one of its keys moves
+// (w, s, a, d), else "jq" or "lq" by the sign of its net turn ("l:23,w:41" -> "uw",
+// "j:3,l:5" -> "lq"). Anything else (not KEYS:FRAMES segments) is returned whole.
 std::string baseCandidate(const std::string& name);
 // The in-place turn by `yaw_deg` (left positive) at jq / lq's rate: "jq:<frames>" or
 // "lq:<frames>", frames = round(|yaw| / (rotate_deg / H)), at least 1.
 std::string turnName(double yaw_deg, const Config& config);
+// The goal move's key string: the in-place turn of turnName, then `walk_cells` coverage
+// cells forward at w's speed (policy.cells_per_d_fwd cells are one forward action of
+// H frames): "l:23,w:41"; without the turn when it rounds to no frame ("w:41").
+std::string goalMoveName(double turn_deg, double walk_cells, const Config& config);
 // A name with what it does, for logs: "lq:114 (turn 180 deg right)", "uw@32 (4.5 m forward)".
 std::string describeAction(const std::string& name, const Config& config);
 

@@ -1,0 +1,59 @@
+#pragma once
+// [ours] The coverage grid's surface layer (policy.max_cell_rise > 0; docs/whole_level.md):
+// where the walkable surface of each cell lies, so that the whole-level goal's paths
+// climb stairs and ramps to other storeys instead of taking every rise for a wall. The
+// flat layers (observed floor, obstacle points) judge each point by its height over its
+// own keyframe's floor, so a stair tread is an obstacle and a floor on another storey
+// is none of the agent's business.
+//
+// Heights are normalised (eye heights) over the grid's anchor floor, in bins of
+// kBinHeight from kLowestHeight. A cell records the heights of the map points in it
+// that lay below the obstacle band's top over their keyframe's floor (no ceilings or
+// storeys overhead), and the floor height where the agent stood in it. Then:
+//  - seen: some bin holds min_points points;
+//  - top run: from the highest such bin down, the bins reached through gaps of at most
+//    kRunGap without such a bin;
+//  - height: the floor the agent stood on (the lowest where it stood at several), else
+//    the top of the top run when the run spans at most max_rise (a surface: a floor,
+//    a tread with its riser, a ramp's stretch), else none (a face: a wall's points
+//    reach down to the floor within the cell);
+//  - a step from one cell to a neighbour: both have a height and they differ by at most
+//    max_rise (stairs rise at most 0.64 a cell of one metre; a wall more).
+// Cells are indices of the owning grid; only cells that received a point are stored.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+
+namespace valerant {
+
+class SurfaceLayer {
+ public:
+  static constexpr double kBinHeight = 0.1;
+  static constexpr double kLowestHeight = -12.8;  // 256 bins: +-12.8 eye heights (+-640 game units)
+  static constexpr int kBins = 256;
+  // Points of a wall seen from afar lie a few bins apart; two storeys lie many apart.
+  static constexpr double kRunGap = 0.3;
+
+  SurfaceLayer(double max_rise, int min_points) : max_rise_(max_rise), min_points_(min_points) {}
+
+  void addPoint(size_t cell, double height);
+  void addStand(size_t cell, double floor_height);
+  bool seen(size_t cell) const;
+  std::optional<double> height(size_t cell) const;
+  bool step(size_t from, size_t to) const;
+
+ private:
+  struct Bins {
+    std::array<uint8_t, kBins> counts{};  // saturating at 255
+    std::optional<double> stood;          // lowest floor the agent stood on here
+  };
+  static int binOf(double height);
+
+  double max_rise_;
+  int min_points_;
+  std::unordered_map<size_t, Bins> cells_;
+};
+
+}  // namespace valerant

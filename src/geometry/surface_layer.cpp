@@ -1,0 +1,58 @@
+#include "valerant/geometry/surface_layer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace valerant {
+
+int SurfaceLayer::binOf(double height) {
+  const int bin = static_cast<int>(std::floor((height - kLowestHeight) / kBinHeight));
+  return std::clamp(bin, 0, kBins - 1);
+}
+
+void SurfaceLayer::addPoint(size_t cell, double height) {
+  uint8_t& count = cells_[cell].counts[binOf(height)];
+  if (count < 255) ++count;
+}
+
+void SurfaceLayer::addStand(size_t cell, double floor_height) {
+  std::optional<double>& stood = cells_[cell].stood;
+  stood = stood ? std::min(*stood, floor_height) : floor_height;
+}
+
+bool SurfaceLayer::seen(size_t cell) const {
+  const auto it = cells_.find(cell);
+  if (it == cells_.end()) return false;
+  const auto& counts = it->second.counts;
+  return std::any_of(counts.begin(), counts.end(), [&](uint8_t n) { return n >= min_points_; });
+}
+
+std::optional<double> SurfaceLayer::height(size_t cell) const {
+  const auto it = cells_.find(cell);
+  if (it == cells_.end()) return std::nullopt;
+  if (it->second.stood) return it->second.stood;
+  const auto& counts = it->second.counts;
+  int top = kBins - 1;
+  while (top >= 0 && counts[top] < min_points_) --top;
+  if (top < 0) return std::nullopt;
+  // Walk down the top run; a gap of more than kRunGap without a seen bin ends it.
+  const int max_gap_bins = static_cast<int>(std::lround(kRunGap / kBinHeight));
+  int bottom = top;
+  for (int bin = top - 1, gap = 0; bin >= 0 && gap <= max_gap_bins; --bin) {
+    if (counts[bin] >= min_points_) {
+      bottom = bin;
+      gap = 0;
+    } else {
+      ++gap;
+    }
+  }
+  if ((top - bottom) * kBinHeight > max_rise_ + 1e-9) return std::nullopt;  // a face
+  return kLowestHeight + (top + 1) * kBinHeight;  // the top of the top bin
+}
+
+bool SurfaceLayer::step(size_t from, size_t to) const {
+  const auto a = height(from), b = height(to);
+  return a && b && std::abs(*a - *b) <= max_rise_ + 1e-9;
+}
+
+}  // namespace valerant
