@@ -29,7 +29,7 @@ FrontierDistance::FrontierDistance(const CoverageGrid& grid, std::set<Cell> bloc
       for (int dj = -1; dj <= 1; ++dj) {
         if (di == 0 && dj == 0) continue;
         const Cell next{c.first + di, c.second + dj};
-        if (!passable(c, next)) continue;
+        if (!passable(next, c)) continue;  // D spreads from the frontiers: the agent walks next -> c
         const double through = d + (di != 0 && dj != 0 ? kDiagonal : 1.0);
         if (through < distance_[index(next)]) {
           distance_[index(next)] = through;
@@ -40,7 +40,7 @@ FrontierDistance::FrontierDistance(const CoverageGrid& grid, std::set<Cell> bloc
 }
 
 bool FrontierDistance::passable(const Cell& from, const Cell& to) const {
-  return grid_.traversable(from, to) && !blocked_.count(to);
+  return grid_.walkable(from) && !blocked_.count(from) && grid_.traversable(from, to) && !blocked_.count(to);
 }
 
 bool FrontierDistance::isGoalFrontier(const Cell& c) const {

@@ -52,7 +52,7 @@ std::optional<double> SurfaceLayer::height(size_t cell) const {
 
 bool SurfaceLayer::step(size_t from, size_t to) const {
   const auto a = height(from), b = height(to);
-  return a && b && std::abs(*a - *b) <= max_rise_ + 1e-9;
+  return a && b && *b - *a <= max_rise_ + 1e-9;
 }
 
 }  // namespace valerant

@@ -61,9 +61,10 @@ TEST(SurfaceLayer, StepsRiseAtMostMaxRise) {
   addPoints(layer, 3, {0.95});   // bin 137: 1.0, 0.9 above cell 1
   addPoints(layer, 4, {0.02, 0.3, 0.6, 0.9, 1.15});  // a face
   EXPECT_TRUE(layer.step(1, 2));
-  EXPECT_TRUE(layer.step(2, 1));  // down as up
-  EXPECT_FALSE(layer.step(1, 3));
-  EXPECT_TRUE(layer.step(2, 3));  // 0.4
+  EXPECT_TRUE(layer.step(2, 1));
+  EXPECT_FALSE(layer.step(1, 3));  // 0.9 up
+  EXPECT_TRUE(layer.step(3, 1));   // 0.9 down: a drop off a ledge
+  EXPECT_TRUE(layer.step(2, 3));   // 0.4
   EXPECT_FALSE(layer.step(1, 4));
   EXPECT_FALSE(layer.step(1, 7));  // unknown
 }
@@ -111,6 +112,29 @@ TEST(SurfaceLayer, TheGoalClimbsAStaircaseTheFlatModelTakesForAWall) {
   // A last step of 0.9 (surface 1.9 after 1.0) is too high: no frontier reachable.
   const CoverageGrid ledge = build(config, 1.85);
   EXPECT_EQ(FrontierDistance(ledge, {}).at(start), FrontierDistance::kUnreachable);
+  // A pit instead: x = 2, 3, 4 at -0.5, -1.0 and -3.0: walking down is falling, D = 4
+  // from the agent; from the pit's frontier x = 4 back up to x = 2 (2 up, then 0.5) no.
+  const CoverageGrid pit = [&] {
+    CoverageGrid g(config, anchor, Eigen::Vector3d::UnitX(), 8.0);
+    auto points = [&](double x, double y, std::initializer_list<double> heights) {
+      for (double h : heights)
+        for (int i = 0; i < 3; ++i) g.markSurfacePoint({x, y, h});
+    };
+    g.markVisited({0, 0, 1});
+    points(1, 0, {0.02});
+    points(2, 0, {-0.55});
+    points(3, 0, {-1.05});
+    points(4, 0, {-3.05});
+    for (int x = -1; x <= 5; ++x) {
+      points(x, 1, {-3.05, -2.5, -2.0, -1.5, -1.0, -0.5, 0.02, 0.3, 0.6, 0.9, 1.15});
+      points(x, -1, {-3.05, -2.5, -2.0, -1.5, -1.0, -0.5, 0.02, 0.3, 0.6, 0.9, 1.15});
+    }
+    points(-1, 0, {0.02, 0.3, 0.6, 0.9, 1.15});
+    return g;
+  }();
+  const FrontierDistance down(pit, {});
+  EXPECT_DOUBLE_EQ(down.at(start), 4.0);
+  EXPECT_FALSE(pit.traversable({68, 64}, {67, 64}));  // 2.0 back up
   // The flat model takes the first step (0.45 over the floor) for an obstacle.
   PolicyConfig flat;
   const CoverageGrid flat_grid = build(flat, 1.45);

@@ -30,7 +30,8 @@
 // the last two for the whole-level terms, storeys and stairs included:
 //  - walkable: a cell with a surface height (visited cells: the floor stood on);
 //  - unknown:  no point seen in it and not visited;
-//  - a step between neighbours (traversable): both walkable, heights within max_cell_rise.
+//  - a step into a neighbour (traversable): both walkable, rising at most max_cell_rise
+//    (any drop).
 // Without it a step is any walkable neighbour: the flat model.
 #include <Eigen/Geometry>
 #include <cstdint>

@@ -11,8 +11,9 @@
 //  - D(c): path distance in cells from c to the nearest goal frontier over walkable
 //    cells outside `blocked` (the failed-region memory F), 8-connected (steps 1 and
 //    sqrt 2) where the grid lets the agent step (CoverageGrid::traversable: any walkable
-//    neighbour, or with the surface layer one within max_cell_rise): a multi-source
-//    Dijkstra from every goal frontier. Infinite where no frontier is reachable.
+//    neighbour, or with the surface layer one rising at most max_cell_rise, or lower): a
+//    multi-source Dijkstra from every goal frontier over the steps reversed. Infinite
+//    where no frontier is reachable.
 //  - G = (D(start) - D'(end)) / cells_per_d_fwd, the approach to the goal in forward
 //    actions, where D'(end) = D(end), or 0 when the end cell is unknown (the candidate
 //    walks into unexplored space, the goal itself). G = 0 when D(start) or D'(end) is
@@ -50,7 +51,7 @@ class FrontierDistance {
   std::optional<Cell> waypoint(const Cell& start, double max_cells) const;
 
  private:
-  // A step from `from` into its neighbour `to` (CoverageGrid::traversable) that F allows.
+  // A step from `from` into its neighbour `to` (CoverageGrid::traversable), neither in F.
   bool passable(const Cell& from, const Cell& to) const;
 
   const CoverageGrid& grid_;

@@ -17,8 +17,10 @@
 //    the top of the top run when the run spans at most max_rise (a surface: a floor,
 //    a tread with its riser, a ramp's stretch), else none (a face: a wall's points
 //    reach down to the floor within the cell);
-//  - a step from one cell to a neighbour: both have a height and they differ by at most
-//    max_rise (stairs rise at most 0.64 a cell of one metre; a wall more).
+//  - a step from one cell to a neighbour: both have a height and the second rises at
+//    most max_rise over the first (stairs rise at most 0.64 a cell of one metre; a wall
+//    more); any drop is a step, as a player walking off a ledge falls to the floor below
+//    (most of the floor a player reaches from a spawn lies on lower storeys).
 // Cells are indices of the owning grid; only cells that received a point are stored.
 #include <array>
 #include <cstddef>
