@@ -22,3 +22,14 @@ TEST(LevelExtent, FarthestReachableFloorAgainstTheGridsReach) {
   EXPECT_DOUBLE_EQ(e.grid_reach_m, 19.5);
   EXPECT_FALSE(e.fits);
 }
+
+TEST(LevelExtent, StoreysAgainstTheSpawnsFeet) {
+  quake3::ReachableFloor floor;
+  // The spawn floats at z 80 over the cell (0, 0) whose floor is 0: floors at 0 and 16
+  // are on its storey (within the 18-unit step), 40 above, -100 below.
+  floor.cells = {{0, 0, 0}, {16, 0, 16}, {32, 0, 40}, {48, 0, -100}};
+  const LevelExtent e = levelExtent(floor, {2, 0, 80}, Config{});
+  EXPECT_DOUBLE_EQ(e.spawn_storey_percent, 50.0);
+  EXPECT_DOUBLE_EQ(e.above_percent, 25.0);
+  EXPECT_DOUBLE_EQ(e.below_percent, 25.0);
+}

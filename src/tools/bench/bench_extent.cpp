@@ -27,7 +27,10 @@ nlohmann::json runExtentBench(const Config& config, const std::vector<std::strin
                       {"reachable_m2", e.reachable_m2},
                       {"farthest_m", e.farthest_m},
                       {"grid_cells_needed", e.grid_cells_needed},
-                      {"fits", e.fits}});
+                      {"fits", e.fits},
+                      {"spawn_storey_percent", e.spawn_storey_percent},
+                      {"above_percent", e.above_percent},
+                      {"below_percent", e.below_percent}});
       needed = std::max(needed, e.grid_cells_needed);
       all_fit = all_fit && e.fits;
     }
