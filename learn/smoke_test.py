@@ -22,7 +22,7 @@ import torch
 
 import error_by_depth
 import train_depth
-from valerant_learn.depth_net import DepthNet, GlobalContext
+from valerant_learn.depth_net import ColumnContext, DepthNet, GlobalContext, count_parameters
 from valerant_learn.floor_prior import floor_log_depth
 from valerant_learn.junit import run_smoke_test
 from valerant_learn.log16 import decode_log16, encode_log16
@@ -227,6 +227,43 @@ class GlobalContextTest(unittest.TestCase):
         self.assertEqual(tuple(context(features).shape), (1, 8, 3, 4))
 
 
+class ColumnContextTest(unittest.TestCase):
+    def hand_set_context(self):
+        """A ColumnContext of one channel whose summary layer passes the column
+        mean on unchanged and whose mix keeps only the summary (eval-mode
+        BatchNorm at its initial statistics divides by sqrt(1 + 1e-5))."""
+        context = ColumnContext(1, 3, summary_channels=1).eval()
+        with torch.no_grad():
+            context.summary[0].weight.fill_(1.0)
+            context.summary[0].bias.zero_()
+            context.mix[0].weight.copy_(torch.tensor([0.0, 1.0]).view(1, 2, 1, 1))
+        return context
+
+    def test_hand_worked_column_means(self):
+        # columns 0..3 of a 3-row grid: means (1+3+5)/3 = 3, (2+4+0)/3 = 2, (3+5+1)/3 = 3, (4+6+2)/3 = 4
+        features = torch.tensor([[1.0, 2.0, 3.0, 4.0],
+                                 [3.0, 4.0, 5.0, 6.0],
+                                 [5.0, 0.0, 1.0, 2.0]]).view(1, 1, 3, 4)
+        with torch.no_grad():
+            output = self.hand_set_context()(features)[0, 0]
+        expected = torch.tensor([3.0, 2.0, 3.0, 4.0]).expand(3, 4) / math.sqrt(1 + 1e-5)
+        self.assertTrue(torch.allclose(output, expected, atol=1e-6), output)
+
+    def test_a_column_sees_only_itself(self):
+        """A change in one row of column 2 reaches every row of column 2 and no
+        other column."""
+        torch.manual_seed(0)
+        context = ColumnContext(8, 3).eval()
+        features = torch.rand(1, 8, 3, 4)
+        changed = features.clone()
+        changed[0, :, 0, 2] += 5
+        with torch.no_grad():
+            difference = (context(features) - context(changed))[0].abs().amax(0)
+        self.assertGreater(float(difference[2, 2]), 1e-3)
+        self.assertEqual(float(difference[:, [0, 1, 3]].max()), 0.0)
+        self.assertEqual(tuple(context(features).shape), (1, 8, 3, 4))
+
+
 class ErrorByDepthTest(unittest.TestCase):
     def test_hand_worked_groups(self):
         # floor plane at 2 m under every pixel but the last (at the horizon: 80 m, no floor)
@@ -405,6 +442,12 @@ class TrainDepthTest(unittest.TestCase):
         self.assertEqual(list(metrics["select"]["per_map"]), [SELECT_MAP])
         self.assertIn("scaled_error", metrics["val"]["all"])
 
+    def test_end_to_end_column_context(self):
+        metrics = self.train_and_check("run_v7", ["--loss", "decoupled", "--column-context", "--ema", "0.9",
+                                                  "--select-maps", SELECT_MAP], [SELECT_SHARD])
+        self.assertEqual((metrics["column_context"], metrics["global_context"]), (True, False))
+        self.assertEqual(metrics["parameters"], count_parameters(DepthNet(HEIGHT, WIDTH, column_context=True)))
+
     def test_end_to_end_floor_relative(self):
         metrics = self.train_and_check("run_floor", ["--floor-prior"])
         self.assertEqual(metrics["floor_prior"], {key: CAMERA[key] for key in ("fy", "cy", "eye_height_m")})
@@ -437,7 +480,7 @@ class TrainDepthTest(unittest.TestCase):
         # The exported file must run in cv2.dnn and agree with the saved torch weights.
         checkpoint = torch.load(os.path.join(out, "depth_prior.pt"))
         model = DepthNet(checkpoint["height"], checkpoint["width"], checkpoint["floor_prior"],
-                         checkpoint["global_context"])
+                         checkpoint["global_context"], checkpoint["column_context"])
         model.load_state_dict(checkpoint["state_dict"])
         rgb = train_depth.as_input(torch.from_numpy(load_shards([VAL_SHARD])["rgb"][:3])).contiguous().numpy()
         report = verify_with_opencv(os.path.join(out, "depth_prior.onnx"), model, rgb)

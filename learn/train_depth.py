@@ -69,6 +69,9 @@ def parse_args(argv):
     parser.add_argument("--global-context", action="store_true",
                         help="add a summary of the whole frame to the encoder's output "
                              "(valerant_learn/depth_net.py, GlobalContext)")
+    parser.add_argument("--column-context", action="store_true",
+                        help="add a summary of each image column to the stride-8 decoder features "
+                             "(valerant_learn/depth_net.py, ColumnContext)")
     parser.add_argument("--ema", type=float, metavar="DECAY",
                         help="validate and keep an exponential moving average of the weights "
                              "(valerant_learn/weight_average.py), e.g. 0.999")
@@ -232,7 +235,8 @@ def train(model, train_frames, val_frames, select_frames, args, device, out_dir)
                 torch.save({"state_dict": {k: v.cpu() for k, v in best["state"].items()},
                             "height": model.height, "width": model.width, "step": step,
                             "floor_prior": floor_prior_camera(model),
-                            "global_context": model.global_context is not None},
+                            "global_context": model.global_context is not None,
+                            "column_context": model.column_context is not None},
                            os.path.join(out_dir, "depth_prior.pt"))
             print("step %d  %.1f s  lr %.2e  train loss %.4f  val AbsRel %.4f  delta1 %.4f%s%s"
                   % (step, row["seconds"], optimizer.param_groups[0]["lr"], row["train_loss"],
@@ -299,7 +303,8 @@ def main(argv=None):
         device = pick_device(args.device)
         train_data, val_data, select_data = load_split(args)
         meta = train_data["meta"]
-        model = DepthNet(meta["height"], meta["width"], meta if args.floor_prior else None, args.global_context)
+        model = DepthNet(meta["height"], meta["width"], meta if args.floor_prior else None, args.global_context,
+                         args.column_context)
     except ValueError as error:
         sys.exit("train_depth: error: %s" % error)
     os.makedirs(args.out, exist_ok=True)
@@ -334,7 +339,8 @@ def main(argv=None):
     onnx_report = export_onnx(model, onnx_path, verify_rgb, {
         "sky_depth_m": SKY_DEPTH_M, "fx": meta["fx"], "fy": meta["fy"], "cx": meta["cx"], "cy": meta["cy"],
         "eye_height_m": meta["eye_height_m"], "floor_prior": "yes" if args.floor_prior else "no",
-        "global_context": "yes" if args.global_context else "no", "loss": args.loss,
+        "global_context": "yes" if args.global_context else "no",
+        "column_context": "yes" if args.column_context else "no", "loss": args.loss,
         "train_maps": ",".join(meta["maps"]), "val_abs_rel": val_summary["all"]["abs_rel"]})
     print("exported %s; cv2.dnn vs torch max |diff| ln depth %.2e, ln b %.2e"
           % (onnx_path, onnx_report["max_abs_diff_log_depth"], onnx_report["max_abs_diff_log_scale"]), flush=True)
@@ -347,6 +353,7 @@ def main(argv=None):
         "picked_by": "select" if select_frames is not None else "val",
         "loss": args.loss,
         "global_context": args.global_context,
+        "column_context": args.column_context,
         "ema": args.ema,
         "sky_depth_m": SKY_DEPTH_M,
         "metric_depth_range_m": [METRIC_MIN_M, METRIC_MAX_M],

@@ -13,7 +13,8 @@ scale of the ln-depth error, clamped to [LOG_SCALE_MIN, LOG_SCALE_MAX].
 With a floor prior (floor_prior.py) the depth head predicts ln depth relative to
 the floor-plane depth of each row, added inside the net: the output is the same.
 With global context (GlobalContext) the stride-32 features also see a summary of
-the whole frame before decoding."""
+the whole frame before decoding; with column context (ColumnContext) the stride-8
+decoder features see a summary of their image column."""
 import copy
 import math
 
@@ -47,6 +48,10 @@ STEM_CHANNELS = 16
 DECODER_CHANNELS = [96, 64, 32, 24, 16]
 # Width of GlobalContext's summary of the frame.
 GLOBAL_CONTEXT_CHANNELS = 256
+# Width of ColumnContext's summary of a column, and the decoder stage it follows
+# (stage 1 outputs stride 8: 16 columns of 8 pixels at 128 x 96).
+COLUMN_CONTEXT_CHANNELS = 64
+COLUMN_CONTEXT_STAGE = 1
 
 
 class ConvBN(nn.Sequential):
@@ -127,6 +132,30 @@ class GlobalContext(nn.Module):
         return self.mix(torch.cat([x, spread], 1))
 
 
+class ColumnContext(nn.Module):
+    """Concatenates a summary of each image column (the mean of the features over
+    its rows, through a 1x1 layer) to every position of that column, then mixes
+    back to the input width.
+
+    The eye is always at the same height over a level floor, so a wall stands as
+    far away as the floor straight below it in the same image column: the column
+    holds the answer, but a 3x3 stack at stride 8 sees only a few of its rows.
+    The mean is an AveragePool over the whole grid height, spread back over the
+    rows by a nearest Resize of fixed scales (both in OpenCV 4.6's importer; a
+    broadcasting Add of two tensors is not)."""
+
+    def __init__(self, channels, grid_height, summary_channels=COLUMN_CONTEXT_CHANNELS):
+        super().__init__()
+        self.rows = grid_height
+        self.summary = nn.Sequential(nn.Conv2d(channels, summary_channels, 1), nn.ReLU(inplace=True))
+        self.mix = ConvBN(channels + summary_channels, channels)
+
+    def forward(self, x):
+        summary = self.summary(F.avg_pool2d(x, (self.rows, 1)))
+        spread = F.interpolate(summary, scale_factor=(float(self.rows), 1.0), mode="nearest")
+        return self.mix(torch.cat([x, spread], 1))
+
+
 class InvertedResidual(nn.Module):
     """MobileNetV2 block: 1x1 expand, 3x3 depthwise, linear 1x1 project."""
 
@@ -168,9 +197,10 @@ def clamp_by_relu(x, low, high):
 class DepthNet(nn.Module):
     """floor_prior: None (the depth head predicts ln depth itself) or the camera
     (fy, cy, eye_height_m) whose floor-plane depth the head predicts ln depth
-    relative to. global_context: a GlobalContext after the encoder."""
+    relative to. global_context: a GlobalContext after the encoder. column_context:
+    a ColumnContext after decoder stage COLUMN_CONTEXT_STAGE."""
 
-    def __init__(self, height=96, width=128, floor_prior=None, global_context=False):
+    def __init__(self, height=96, width=128, floor_prior=None, global_context=False, column_context=False):
         super().__init__()
         if height % 32 or width % 32:
             raise ValueError("DepthNet needs a size divisible by 32, got %dx%d" % (width, height))
@@ -193,6 +223,9 @@ class DepthNet(nn.Module):
         for cout, skip in zip(DECODER_CHANNELS, skips[-2::-1] + [0]):
             self.decoder.append(DecoderStage(channels, skip, cout))
             channels = cout
+        column_stride = 16 // 2 ** COLUMN_CONTEXT_STAGE
+        self.column_context = (ColumnContext(DECODER_CHANNELS[COLUMN_CONTEXT_STAGE], height // column_stride)
+                               if column_context else None)
         self.depth_head = nn.Conv2d(channels, 1, 1)
         self.scale_head = nn.Conv2d(channels, 1, 1)
         nn.init.zeros_(self.depth_head.weight)
@@ -209,8 +242,10 @@ class DepthNet(nn.Module):
         x = skips.pop()
         if self.global_context is not None:
             x = self.global_context(x)
-        for stage in self.decoder:
+        for index, stage in enumerate(self.decoder):
             x = stage(x, skips.pop() if skips else None)
+            if index == COLUMN_CONTEXT_STAGE and self.column_context is not None:
+                x = self.column_context(x)
         log_depth = self.depth_head(x)
         if self.floor_prior is not None:
             log_depth = self.floor_prior(log_depth, rgb)
