@@ -58,10 +58,16 @@ if [ "$mode" = collect ]; then
   done
   exit $status
 fi
+# Each `start` stages its call's parts again while earlier runs may still be reading
+# them: a shard already there is left alone, a changed one arrives by rename (a run that
+# opened the old file keeps reading it; an overwrite in place once broke a run's load).
+stage_file() {
+  cmp -s "$1" "$2" || { cp "$1" "$2.part" && mv "$2.part" "$2"; }
+}
 mkdir -p "$VDATA/train" "$VDATA/eval"
 for root in ${DATA:-data}; do
-  for f in "$root"/train_*/*.zip; do [ -f "$f" ] && cp "$f" "$VDATA/train/$(basename "$(dirname "$f")")_$(basename "$f")"; done
-  for f in "$root"/eval/*.zip; do [ -f "$f" ] && cp "$f" "$VDATA/eval/"; done
+  for f in "$root"/train_*/*.zip; do [ -f "$f" ] && stage_file "$f" "$VDATA/train/$(basename "$(dirname "$f")")_$(basename "$f")"; done
+  for f in "$root"/eval/*.zip; do [ -f "$f" ] && stage_file "$f" "$VDATA/eval/$(basename "$f")"; done
 done
 echo "staged: $(ls "$VDATA/train" | wc -l) training shards, $(ls "$VDATA/eval" | wc -l) evaluation shards"
 du -sh "$VDATA/train" "$VDATA/eval"
