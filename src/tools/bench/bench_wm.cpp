@@ -327,7 +327,7 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
           {"maps", maps},
           {"spawns", flags.spawns},
           {"spawns_skipped", skipped_spawns},
-          {"model", model_path},
+          {"model", flags.model ? *flags.model : learned.model},  // as given: a record valid on any machine
           {"width", model.width()},
           {"height", model.height()},
           {"context_frames", model.contextFrames()},
@@ -343,7 +343,7 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
             {"engine", depth.frames ? json(depth.engine_sum / depth.frames) : json(nullptr)},
             {"frames", depth.frames},
             {"in_solid_frames_skipped", depth.in_solid_frames},
-            {"depth_model", packageFilePath(config.slam.depth_prior_model)}}},
+            {"depth_model", config.slam.depth_prior_model}}},
           {"ms_per_frame", number(median(step_ms))},
           {"rollouts", rollouts},
           {"sheets", sheets},
