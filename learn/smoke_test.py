@@ -18,6 +18,7 @@ import zipfile
 
 import cv2
 import numpy as np
+import onnx
 import torch
 
 import error_by_depth
@@ -431,6 +432,7 @@ class TrainDepthTest(unittest.TestCase):
     def test_end_to_end_on_cpu(self):
         metrics = self.train_and_check("run", [])
         self.assertEqual((metrics["picked_by"], metrics["loss"], metrics["select"]), ("val", "laplace", None))
+        self.assertEqual((metrics["keep"], metrics["kept_step"]), ("best", metrics["best_step"]))
 
     def test_end_to_end_decoupled_with_context_and_selection(self):
         metrics = self.train_and_check("run_v6", ["--loss", "decoupled", "--global-context", "--ema", "0.9",
@@ -447,6 +449,13 @@ class TrainDepthTest(unittest.TestCase):
                                                   "--select-maps", SELECT_MAP], [SELECT_SHARD])
         self.assertEqual((metrics["column_context"], metrics["global_context"]), (True, False))
         self.assertEqual(metrics["parameters"], count_parameters(DepthNet(HEIGHT, WIDTH, column_context=True)))
+
+    def test_end_to_end_keep_last(self):
+        # The end's averaged weights are kept though the selection's best may lie earlier.
+        metrics = self.train_and_check("run_v8", ["--loss", "decoupled", "--ema", "0.9", "--keep", "last",
+                                                  "--select-maps", SELECT_MAP], [SELECT_SHARD])
+        self.assertEqual((metrics["keep"], metrics["kept_step"], metrics["steps"]), ("last", 5, 5))
+        self.assertIn(metrics["best_step"], (3, 5))
 
     def test_end_to_end_floor_relative(self):
         metrics = self.train_and_check("run_floor", ["--floor-prior"])
@@ -479,6 +488,10 @@ class TrainDepthTest(unittest.TestCase):
             self.assertEqual([line.split(",")[0] for line in handle.read().split()], ["step", "3", "5"])
         # The exported file must run in cv2.dnn and agree with the saved torch weights.
         checkpoint = torch.load(os.path.join(out, "depth_prior.pt"))
+        self.assertEqual((checkpoint["keep"], checkpoint["step"]), (metrics["keep"], metrics["kept_step"]))
+        exported = onnx.load(os.path.join(out, "depth_prior.onnx"))
+        properties = {entry.key: entry.value for entry in exported.metadata_props}
+        self.assertEqual((properties["keep"], properties["kept_step"]), (metrics["keep"], str(metrics["kept_step"])))
         model = DepthNet(checkpoint["height"], checkpoint["width"], checkpoint["floor_prior"],
                          checkpoint["global_context"], checkpoint["column_context"])
         model.load_state_dict(checkpoint["state_dict"])

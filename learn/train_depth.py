@@ -6,7 +6,8 @@ OpenCV's DNN module. Runs the same on CPU and CUDA (bf16 autocast there).
 
 The weights kept are those of the best validation by AbsRel: on --select-maps (training
 maps held out of training) where given, else on --val, which is then no longer an
-unbiased measure.
+unbiased measure. With --keep last they are the weights at the end instead (with --ema,
+the averaged ones): no selection set picks them, so none can pick them badly.
 
 Writes to --out: log.csv, depth_prior.pt (the kept weights),
 depth_prior.onnx (verified in cv2.dnn), metrics.json, curves.png, samples.png."""
@@ -40,6 +41,7 @@ EVAL_BATCH = 256
 TRAIN_EVAL_FRAMES = 1000
 SAMPLE_FRAMES = 4
 VERIFY_FRAMES = 8
+KEEP_CHOICES = ("best", "last")
 LOG_COLUMNS = ["step", "seconds", "train_loss", "val_abs_rel", "val_delta1", "select_abs_rel", "select_delta1"]
 
 
@@ -75,6 +77,9 @@ def parse_args(argv):
     parser.add_argument("--ema", type=float, metavar="DECAY",
                         help="validate and keep an exponential moving average of the weights "
                              "(valerant_learn/weight_average.py), e.g. 0.999")
+    parser.add_argument("--keep", choices=KEEP_CHOICES, default="best",
+                        help="best: the weights of the best validation (above); last: the weights at "
+                             "the end of training (with --ema, the averaged ones)")
     parser.add_argument("--floor-prior", action="store_true",
                         help="predict ln depth relative to the floor-plane depth of each image row "
                              "(valerant_learn/floor_prior.py) instead of outright")
@@ -189,11 +194,21 @@ def evaluate(model, frames, indices):
     return {name: np.concatenate([part[name] for part in parts]) for name in parts[0]}
 
 
+def save_checkpoint(model, state, step, keep, path):
+    """The kept weights with what it takes to rebuild the net and how they were kept."""
+    torch.save({"state_dict": {k: v.cpu() for k, v in state.items()},
+                "height": model.height, "width": model.width, "step": step, "keep": keep,
+                "floor_prior": floor_prior_camera(model),
+                "global_context": model.global_context is not None,
+                "column_context": model.column_context is not None}, path)
+
+
 def train(model, train_frames, val_frames, select_frames, args, device, out_dir):
-    """The training loop. Returns (log rows, best step, steps, seconds) and leaves
-    the best weights (by AbsRel on select_frames, or on val_frames where that is
-    None; with --ema, of the averaged weights) loaded in model and saved to
-    depth_prior.pt."""
+    """The training loop. Returns (log rows, best step, kept step, steps, seconds)
+    and leaves the kept weights (with --ema, of the averaged net) loaded in model
+    and saved to depth_prior.pt: with --keep best those of the best AbsRel on
+    select_frames (on val_frames where that is None), with --keep last those at the
+    end. The best step is reported either way."""
     loss_function = training_loss(args.loss)
     weight_average = None if args.ema is None else WeightAverage(model, args.ema)
     judged = model if weight_average is None else weight_average.model
@@ -206,6 +221,7 @@ def train(model, train_frames, val_frames, select_frames, args, device, out_dir)
     select_indices = None if select_frames is None else torch.arange(select_frames.count, device=device)
     budget_s = args.minutes * 60 if args.minutes is not None else None
     rows, best = [], {"abs_rel": math.inf, "step": 0, "state": None}
+    checkpoint_path = os.path.join(out_dir, "depth_prior.pt")
     loss_sum, loss_steps, step = torch.zeros((), device=device), 0, 0
     start = time.time()
     with open(os.path.join(out_dir, "log.csv"), "w", newline="") as log_file:
@@ -230,14 +246,10 @@ def train(model, train_frames, val_frames, select_frames, args, device, out_dir)
             log_file.flush()
             improved = selection["abs_rel"] < best["abs_rel"]
             if improved:
-                best.update(abs_rel=selection["abs_rel"], step=step,
-                            state={k: v.detach().clone() for k, v in judged.state_dict().items()})
-                torch.save({"state_dict": {k: v.cpu() for k, v in best["state"].items()},
-                            "height": model.height, "width": model.width, "step": step,
-                            "floor_prior": floor_prior_camera(model),
-                            "global_context": model.global_context is not None,
-                            "column_context": model.column_context is not None},
-                           os.path.join(out_dir, "depth_prior.pt"))
+                best.update(abs_rel=selection["abs_rel"], step=step)
+                if args.keep == "best":
+                    best["state"] = {k: v.detach().clone() for k, v in judged.state_dict().items()}
+                    save_checkpoint(model, best["state"], step, args.keep, checkpoint_path)
             print("step %d  %.1f s  lr %.2e  train loss %.4f  val AbsRel %.4f  delta1 %.4f%s%s"
                   % (step, row["seconds"], optimizer.param_groups[0]["lr"], row["train_loss"],
                      figures["abs_rel"], figures["delta1"],
@@ -271,10 +283,15 @@ def train(model, train_frames, val_frames, select_frames, args, device, out_dir)
         if loss_steps:
             validate()
     seconds = time.time() - start
-    if best["state"] is None:
+    if not math.isfinite(best["abs_rel"]):
         raise RuntimeError("validation never gave a finite AbsRel: training diverged")
-    model.load_state_dict(best["state"])
-    return rows, best["step"], step, seconds
+    if args.keep == "best":
+        model.load_state_dict(best["state"])
+        return rows, best["step"], best["step"], step, seconds
+    if judged is not model:
+        model.load_state_dict(judged.state_dict())
+    save_checkpoint(model, model.state_dict(), step, args.keep, checkpoint_path)
+    return rows, best["step"], step, step, seconds
 
 
 def floor_prior_camera(model):
@@ -321,7 +338,7 @@ def main(argv=None):
     select_frames = None if select_data is None else Frames(select_data, device)
     model = model.to(device).to(memory_format=torch.channels_last)
 
-    rows, best_step, steps, seconds = train(model, train_frames, val_frames, select_frames, args, device, args.out)
+    rows, best_step, kept_step, steps, seconds = train(model, train_frames, val_frames, select_frames, args, device, args.out)
 
     val_summary = summarize(evaluate(model, val_frames, torch.arange(val_frames.count, device=device)),
                             val_frames.kind, val_frames.map)
@@ -341,6 +358,7 @@ def main(argv=None):
         "eye_height_m": meta["eye_height_m"], "floor_prior": "yes" if args.floor_prior else "no",
         "global_context": "yes" if args.global_context else "no",
         "column_context": "yes" if args.column_context else "no", "loss": args.loss,
+        "keep": args.keep, "kept_step": kept_step,
         "train_maps": ",".join(meta["maps"]), "val_abs_rel": val_summary["all"]["abs_rel"]})
     print("exported %s; cv2.dnn vs torch max |diff| ln depth %.2e, ln b %.2e"
           % (onnx_path, onnx_report["max_abs_diff_log_depth"], onnx_report["max_abs_diff_log_scale"]), flush=True)
@@ -350,6 +368,7 @@ def main(argv=None):
         "val": val_summary,
         "train_subset": train_summary,
         "select": select_summary,
+        "keep": args.keep,
         "picked_by": "select" if select_frames is not None else "val",
         "loss": args.loss,
         "global_context": args.global_context,
@@ -365,6 +384,7 @@ def main(argv=None):
         "input_height": meta["height"],
         "steps": steps,
         "best_step": best_step,
+        "kept_step": kept_step,
         "train_seconds": round(seconds, 2),
         "batch": args.batch,
         "lr": args.lr,
@@ -388,8 +408,8 @@ def main(argv=None):
     plot_curves(rows, os.path.join(args.out, "curves.png"))
     write_samples(model, val_frames, os.path.join(args.out, "samples.png"))
     rotation = val_summary["rotate"]["abs_rel"]
-    print("done: best step %d of %d in %.0f s; val AbsRel %.4f delta1 %.4f, rotation frames' AbsRel %s; wrote %s"
-          % (best_step, steps, seconds, val_summary["all"]["abs_rel"], val_summary["all"]["delta1"],
+    print("done: kept step %d (%s; best step %d) of %d in %.0f s; val AbsRel %.4f delta1 %.4f, rotation frames' AbsRel %s; wrote %s"
+          % (kept_step, args.keep, best_step, steps, seconds, val_summary["all"]["abs_rel"], val_summary["all"]["delta1"],
              "none" if rotation is None else "%.4f" % rotation, args.out), flush=True)
     return 0
 
