@@ -338,7 +338,8 @@ def main(argv=None):
     select_frames = None if select_data is None else Frames(select_data, device)
     model = model.to(device).to(memory_format=torch.channels_last)
 
-    rows, best_step, kept_step, steps, seconds = train(model, train_frames, val_frames, select_frames, args, device, args.out)
+    rows, best_step, kept_step, steps, seconds = train(model, train_frames, val_frames, select_frames, args,
+                                                       device, args.out)
 
     val_summary = summarize(evaluate(model, val_frames, torch.arange(val_frames.count, device=device)),
                             val_frames.kind, val_frames.map)
@@ -408,9 +409,10 @@ def main(argv=None):
     plot_curves(rows, os.path.join(args.out, "curves.png"))
     write_samples(model, val_frames, os.path.join(args.out, "samples.png"))
     rotation = val_summary["rotate"]["abs_rel"]
-    print("done: kept step %d (%s; best step %d) of %d in %.0f s; val AbsRel %.4f delta1 %.4f, rotation frames' AbsRel %s; wrote %s"
-          % (kept_step, args.keep, best_step, steps, seconds, val_summary["all"]["abs_rel"], val_summary["all"]["delta1"],
-             "none" if rotation is None else "%.4f" % rotation, args.out), flush=True)
+    print("done: kept step %d (%s; best step %d) of %d in %.0f s; val AbsRel %.4f delta1 %.4f, "
+          "rotation frames' AbsRel %s; wrote %s"
+          % (kept_step, args.keep, best_step, steps, seconds, val_summary["all"]["abs_rel"],
+             val_summary["all"]["delta1"], "none" if rotation is None else "%.4f" % rotation, args.out), flush=True)
     return 0
 
 
