@@ -26,6 +26,7 @@ from valerant_learn.shards import load_shards, write_shard
 from valerant_learn.world_data import WorldWindows, motion_between, split_sequences, wrap_degrees
 from valerant_learn.world_metrics import horizon_table, psnr, ssim
 from valerant_learn.world_net import WorldNet, apply_warp, rollout
+from valerant_learn.world_warp import AnchorState, anchor_step, pixel_grid, rotation_sampling
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 WIDTH, HEIGHT = 128, 96
@@ -128,6 +129,68 @@ class WarpTest(unittest.TestCase):
         torch.testing.assert_close(apply_warp(last, out)[0, 0, 0], torch.tensor([0.5, 1.0]))
 
 
+class RotationAnchorWarpTest(unittest.TestCase):
+    # 90 deg field of view at 128 x 96, principal point at the image centre (corner convention).
+    CAMERA = {"fx": 64.0, "fy": 64.0, "cx": 64.0, "cy": 48.0}
+
+    def test_no_rotation_samples_every_pixel_in_place(self):
+        positions, in_view = rotation_sampling(torch.zeros(1, 4), self.CAMERA, 96, 128)
+        torch.testing.assert_close(positions[0], pixel_grid(96, 128, "cpu"))
+        self.assertEqual(float(in_view.min()), 1.0)
+
+    def test_a_45_degree_left_turn(self):
+        # 129 x 97 pixels with the principal point at corner coordinate (64.5, 48.5): pixel
+        # (64, 48) is the optical axis and pixel 128's ray has x = (128.5 - 64.5) / 64 = 1.
+        # Turning 45 deg left, the new axis is the old ray x = -tan 45 = -1: corner 64.5 - 64,
+        # pixel index 0; the new ray x = 1 is the old axis (x2 = cos 45 - sin 45 = 0,
+        # z2 = sin 45 + cos 45 = sqrt 2): index 64. Row 0 (y = -48 / 64 = -0.75) at column
+        # 128 lands at v = 64 (-0.75) / sqrt 2 + 48 = 48 - 48 / sqrt 2 = 14.059.
+        camera = {"fx": 64.0, "fy": 64.0, "cx": 64.5, "cy": 48.5}
+        motion = torch.tensor([[0.0, 0.0, 45.0, 0.0]], dtype=torch.float64)
+        positions, in_view = rotation_sampling(motion, camera, 97, 129)
+        self.assertAlmostEqual(float(positions[0, 0, 48, 64]), 0.0, places=9)
+        self.assertAlmostEqual(float(positions[0, 1, 48, 64]), 48.0, places=9)
+        self.assertAlmostEqual(float(positions[0, 0, 48, 128]), 64.0, places=9)
+        self.assertAlmostEqual(float(positions[0, 1, 0, 128]), 48 - 48 / np.sqrt(2), places=9)
+        # Left of the new axis the rays leave the old image.
+        self.assertEqual((float(in_view[0, 0, 48, 63]), float(in_view[0, 0, 48, 64])), (0.0, 1.0))
+
+    def test_looking_down_moves_the_picture_up(self):
+        # Pitch down by atan(1/64): the centre ray samples one row below the centre.
+        motion = torch.tensor([[0.0, 0.0, 0.0, float(np.degrees(np.arctan(1 / 64)))]], dtype=torch.float64)
+        positions, _ = rotation_sampling(motion, {"fx": 64.0, "fy": 64.0, "cx": 64.0, "cy": 48.5}, 97, 128)
+        self.assertAlmostEqual(float(positions[0, 1, 48, 64]), 49.0, places=9)
+
+    def test_the_anchor_is_sampled_once(self):
+        # A row 0 1 0 1 0 1 moved half a pixel twice. Resampling the last frame would give
+        # 0.5 and then 0.5; through the coordinates the second frame is the anchor moved by
+        # one whole pixel, 1 0 1 0, where the column's coordinates stay valid (columns 0-3;
+        # column 4 samples validity 0.5 between a valid and an invalid column, column 5
+        # lies outside). Those come from the newest frame: 0.75 and 1 (the border). 4 of 6 valid >= 0.6:
+        # no re-anchoring.
+        anchor = torch.tensor([0.0, 1.0, 0.0, 1.0, 0.0, 1.0]).view(1, 1, 1, 6).expand(1, 3, 2, 6)
+        state = AnchorState.start(anchor)
+        shift = pixel_grid(2, 6, "cpu")[None] + torch.tensor([0.5, 0.0]).view(1, 2, 1, 1)
+        ones, zeros = torch.ones(1, 1, 2, 6), torch.zeros(1, 3, 2, 6)
+        first, state = anchor_step(state, anchor, shift, ones, zeros)
+        torch.testing.assert_close(first[0, 0], torch.tensor([[0.5, 0.5, 0.5, 0.5, 0.5, 1.0]] * 2))
+        torch.testing.assert_close(state.valid[0, 0], torch.tensor([[1.0, 1.0, 1.0, 1.0, 1.0, 0.0]] * 2))
+        second, state = anchor_step(state, first, shift, ones, zeros)
+        torch.testing.assert_close(second[0, 0], torch.tensor([[1.0, 0.0, 1.0, 0.0, 0.75, 1.0]] * 2))
+        torch.testing.assert_close(state.valid[0, 0], torch.tensor([[1.0, 1.0, 1.0, 1.0, 0.0, 0.0]] * 2))
+        self.assertIs(state.anchor, anchor)
+
+    def test_a_filled_frame_becomes_the_anchor(self):
+        anchor = torch.rand(1, 3, 4, 5)
+        state = AnchorState.start(anchor)
+        frame, state = anchor_step(state, anchor, pixel_grid(4, 5, "cpu")[None], torch.zeros(1, 1, 4, 5),
+                                   torch.full((1, 3, 4, 5), 0.3))
+        torch.testing.assert_close(frame, torch.full((1, 3, 4, 5), 0.3))
+        torch.testing.assert_close(state.anchor, frame)
+        torch.testing.assert_close(state.coords, pixel_grid(4, 5, "cpu")[None])
+        self.assertEqual(float(state.valid.min()), 1.0)
+
+
 class MetricsTest(unittest.TestCase):
     def test_psnr_of_a_uniform_error(self):
         # Every pixel off by 0.1: MSE 0.01, PSNR 10 log10(1 / 0.01) = 20 dB.
@@ -165,6 +228,13 @@ class WorldNetTest(unittest.TestCase):
         model = WorldNet(2, 32, 48, full_res_head=True).eval()
         with torch.no_grad():
             frames = rollout(model, torch.rand(1, 2, 3, 32, 48), torch.zeros(1, 3, 4))
+        self.assertEqual(tuple(frames.shape), (1, 3, 3, 32, 48))
+
+    def test_rotation_anchor_rollout(self):
+        model = WorldNet(2, 32, 48, full_res_head=True, warp="rotation_anchor").eval()
+        camera = {"fx": 24.0, "fy": 24.0, "cx": 24.0, "cy": 16.0}
+        with torch.no_grad():
+            frames = rollout(model, torch.rand(1, 2, 3, 32, 48), torch.tensor([[[0.0, 0.0, 1.6, 0.0]] * 3]), camera)
         self.assertEqual(tuple(frames.shape), (1, 3, 3, 32, 48))
 
     def test_rejects_a_size_not_a_multiple_of_16(self):
@@ -220,6 +290,16 @@ class TrainWorldModelTest(unittest.TestCase):
         self.assertEqual((metrics["full_res_head"], metrics["gradient_weight"]), (True, 1.0))
         with open(os.path.join(out, "log.csv")) as handle:
             self.assertEqual([line.split(",")[0] for line in handle.read().split()], ["step", "2", "4"])
+
+    def test_rotation_anchor_end_to_end_on_cpu(self):
+        out = os.path.join(WORK, "anchor")
+        run = self.train("anchor", ["--val", VAL_SHARD, "--full-res-head", "--warp", "rotation_anchor"])
+        self.assertEqual(run.returncode, 0, run.stdout)
+        with open(os.path.join(out, "metrics.json")) as handle:
+            metrics = json.load(handle)
+        self.assertEqual(metrics["warp"], "rotation_anchor")
+        self.assertLess(metrics["onnx_check"]["max_abs_diff"], 1e-3)
+        self.assertEqual(metrics["onnx_check"]["inputs"], 2)
 
     def train(self, name, options):
         env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")

@@ -35,7 +35,8 @@ from valerant_learn.training import device_name, expand_globs, learning_rate, pi
 from valerant_learn.world_data import WorldWindows
 from valerant_learn.world_export import export_world_onnx
 from valerant_learn.world_metrics import HORIZONS, horizon_table, ssim
-from valerant_learn.world_net import WorldNet, rollout
+from valerant_learn.world_net import WorldNet, net_input, rollout
+from valerant_learn.world_warp import WARPS
 from valerant_learn.world_plots import plot_world_curves, plot_rollouts
 
 WEIGHT_DECAY = 0.01
@@ -64,6 +65,10 @@ def parse_args(argv):
     parser.add_argument("--lr", type=float, default=1e-3, help="peak AdamW learning rate")
     parser.add_argument("--full-res-head", action="store_true",
                         help="the net's head at full resolution, seeing the newest frame (world_net.py)")
+    parser.add_argument("--warp", choices=WARPS, default="last_frame",
+                        help="how a frame is made from the net's output (valerant_learn/world_warp.py): "
+                             "last_frame (models v1, v2) or rotation_anchor (the commanded rotation exact, "
+                             "pixels sampled once from an anchor frame)")
     parser.add_argument("--gradient-weight", type=float, default=0.0,
                         help="weight of the image-gradient difference term of the loss (against blur)")
     parser.add_argument("--seed", type=int, default=0)
@@ -146,7 +151,7 @@ def gradient_difference(predicted, true):
     return dx.abs().mean() + dy.abs().mean()
 
 
-def window_loss(model, rgb, table, picks, flip, gradient_weight=0.0):
+def window_loss(model, rgb, table, picks, flip, camera, gradient_weight=0.0):
     context = as_frames(rgb[table.context[picks]])
     targets = as_frames(rgb[table.targets[picks]])
     motions = table.motions[picks]
@@ -154,7 +159,7 @@ def window_loss(model, rgb, table, picks, flip, gradient_weight=0.0):
         flipped = mirror(context[flip], targets[flip], motions[flip])
         context, targets, motions = context.clone(), targets.clone(), motions.clone()
         context[flip], targets[flip], motions[flip] = flipped
-    predicted = rollout(model, context, motions).float()
+    predicted = rollout(model, context, motions, camera).float()
     n, t = predicted.shape[:2]
     flat_pred, flat_true = predicted.reshape(n * t, *predicted.shape[2:]), targets.reshape(n * t, *targets.shape[2:])
     l1 = (flat_pred - flat_true).abs().mean()
@@ -173,7 +178,7 @@ def val_rollouts(windows, limit):
     return chosen
 
 
-def generate(model, windows, run_index, device):
+def generate(model, windows, run_index, device, camera):
     """The model's frames for a whole run from its first frame (context: that frame
     repeated): float [T,3,H,W] on the CPU, T = run length - 1."""
     run = windows.runs[run_index]
@@ -181,22 +186,22 @@ def generate(model, windows, run_index, device):
     context = first[None, None].expand(1, windows.context, *first.shape).contiguous()
     motions = torch.from_numpy(windows.motions[run_index][1:]).to(device)[None]
     with torch.no_grad():
-        return rollout(model, context, motions)[0].float().cpu()
+        return rollout(model, context, motions, camera)[0].float().cpu()
 
 
-def measure_horizons(model, windows, runs, device):
+def measure_horizons(model, windows, runs, device, camera):
     """horizon_table() of the model and both baselines over `runs`."""
     model.eval()
     entries = []
     for r in runs:
         run = windows.runs[r]
         truth = as_frames(torch.from_numpy(windows.rgb[run[1:]]))
-        entries.append((generate(model, windows, r, device), truth, as_frames(torch.from_numpy(windows.rgb[run[0]]))))
+        entries.append((generate(model, windows, r, device, camera), truth, as_frames(torch.from_numpy(windows.rgb[run[0]]))))
     model.train()
     return horizon_table(entries)
 
 
-def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, out_dir):
+def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, out_dir, camera):
     decay = [p for p in model.parameters() if p.ndim > 1 and p.requires_grad]
     no_decay = [p for p in model.parameters() if p.ndim <= 1]
     optimizer = torch.optim.AdamW([{"params": decay, "weight_decay": WEIGHT_DECAY},
@@ -214,9 +219,9 @@ def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, ou
             nonlocal loss_sum, loss_steps
             model.eval()
             with torch.no_grad():
-                _, val_l1 = window_loss(model, rgb["val"], val_table, val_picks, None)
+                _, val_l1 = window_loss(model, rgb["val"], val_table, val_picks, None, camera)
             model.train()
-            table = measure_horizons(model, windows_val, val_runs, device)
+            table = measure_horizons(model, windows_val, val_runs, device, camera)
             row = {"step": step, "seconds": round(time.time() - start, 2), "unroll": unroll,
                    "train_loss": float(loss_sum) / max(1, loss_steps), "val_l1": float(val_l1)}
             row.update({"val_psnr_%d" % h: table[str(h)]["model"]["psnr"] for h in HORIZONS})
@@ -244,7 +249,7 @@ def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, ou
             flip = torch.rand(args.batch, generator=generator, device=device) < 0.5
             with torch.autocast(device_type=device.type, dtype=torch.bfloat16,
                                 enabled=device.type == "cuda" and args.precision == "bf16"):
-                loss, _ = window_loss(model, rgb["train"], table, picks, flip, args.gradient_weight)
+                loss, _ = window_loss(model, rgb["train"], table, picks, flip, camera, args.gradient_weight)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
@@ -260,7 +265,7 @@ def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, ou
         if loss_steps:
             validate(unroll)
     torch.save({"state_dict": {k: v.cpu() for k, v in model.state_dict().items()}, "context": model.context,
-                "full_res_head": model.full_res is not None,
+                "full_res_head": model.full_res is not None, "warp": model.warp, "camera": camera,
                 "height": model.height, "width": model.width, "step": step},
                os.path.join(out_dir, "world_model.pt"))
     return rows, step, time.time() - start
@@ -276,7 +281,8 @@ def main(argv=None):
         device = pick_device(args.device)
         train_data, val_data = load_data(args)
         meta = train_data["meta"]
-        model = WorldNet(args.context, meta["height"], meta["width"], args.full_res_head)
+        model = WorldNet(args.context, meta["height"], meta["width"], args.full_res_head, args.warp)
+        camera = {key: float(meta[key]) for key in ("fx", "fy", "cx", "cy")}
         windows = {"train": WorldWindows(train_data["rgb"], train_data, args.context),
                    "val": WorldWindows(val_data["rgb"], val_data, args.context)}
         unrolls = sorted({args.unroll, args.late_unroll})
@@ -295,12 +301,14 @@ def main(argv=None):
     rgb = {"train": torch.from_numpy(train_data["rgb"]).to(device), "val": torch.from_numpy(val_data["rgb"]).to(device)}
     val_runs = val_rollouts(windows["val"], args.max_val_rollouts)
 
-    rows, steps, seconds = train(model, rgb, tables, val_table, windows["val"], val_runs, args, device, args.out)
+    rows, steps, seconds = train(model, rgb, tables, val_table, windows["val"], val_runs, args, device, args.out,
+                                 camera)
 
-    horizons = measure_horizons(model, windows["val"], val_runs, device)
+    horizons = measure_horizons(model, windows["val"], val_runs, device, camera)
     onnx_path = os.path.join(args.out, "world_model.onnx")
-    verify = torch.cat([as_frames(rgb["val"][val_table.context[:2]]).flatten(1, 2),
-                        val_table.motions[:2, 0, :, None, None].expand(-1, -1, meta["height"], meta["width"])], 1)
+    model.eval()
+    with torch.no_grad():
+        verify, _ = net_input(model, as_frames(rgb["val"][val_table.context[:2]]), val_table.motions[:2, 0], camera)
     onnx_report = export_world_onnx(model, onnx_path, verify.cpu().numpy(), {
         "train_maps": ",".join(meta["maps"]), "fx": meta["fx"], "fy": meta["fy"], "cx": meta["cx"], "cy": meta["cy"]})
     print("exported %s; cv2.dnn vs torch max |diff| %.2e" % (onnx_path, onnx_report["max_abs_diff"]), flush=True)
@@ -313,6 +321,7 @@ def main(argv=None):
         "unroll": args.unroll,
         "late_unroll": args.late_unroll,
         "full_res_head": args.full_res_head,
+        "warp": args.warp,
         "gradient_weight": args.gradient_weight,
         "input_width": meta["width"],
         "input_height": meta["height"],
@@ -340,7 +349,7 @@ def main(argv=None):
     plot_world_curves(rows, os.path.join(args.out, "curves.png"))
     samples = val_runs[:: max(1, len(val_runs) // 4)][:4]
     model.eval()
-    plot_rollouts([(windows["val"].maps[r], generate(model, windows["val"], r, device),
+    plot_rollouts([(windows["val"].maps[r], generate(model, windows["val"], r, device, camera),
                     as_frames(torch.from_numpy(windows["val"].rgb[windows["val"].runs[r][1:]]))) for r in samples],
                   os.path.join(args.out, "rollouts.png"))
     print("done: %d steps in %.0f s; PSNR model/repeat/flat %s; wrote %s" % (

@@ -13,7 +13,7 @@ import torch
 
 from .depth_net import fold_batchnorm
 from .onnx_export import OPSET, inline_initializer_identities, save_checked
-from .world_net import INPUT_NAME, MOTION_CHANNELS, OUTPUT_NAME
+from .world_net import INPUT_NAME, OUTPUT_NAME, input_channels
 
 FORMAT_VERSION = "valerant-world-model-1"
 # Largest |cv2.dnn - torch| accepted on any output channel (flow in pixels, the rest in [0,1]).
@@ -33,7 +33,7 @@ def _torch_export(model, channels):
 
 def verify_with_opencv(path, model, inputs):
     """Runs the file in cv2.dnn and the model in torch on each input (float32
-    [N, 3K+4, H, W], one at a time as the backend does); raises RuntimeError beyond
+    [N, input_channels(model), H, W], one at a time as the backend does); raises RuntimeError beyond
     TOLERANCE. Returns the largest difference."""
     reference = copy.deepcopy(model).cpu().float().eval()
     net = cv2.dnn.readNetFromONNX(str(path))
@@ -56,17 +56,21 @@ def export_world_onnx(model, path, inputs, metadata):
     """Writes the model to path as ONNX (batch 1) and verifies it in cv2.dnn on
     `inputs`. metadata: extra key/values for the file's metadata_props."""
     folded = fold_batchnorm(model)
-    channels = 3 * model.context + MOTION_CHANNELS
+    channels = input_channels(model)
+    extra = {"last_frame": "", "rotation_anchor": ", then the newest frame turned by the commanded rotation (RGB) "
+             "and that rotation's in-view mask"}[model.warp]
     proto = _torch_export(folded, channels)
     removed = inline_initializer_identities(proto.graph)
     properties = {
         "format": FORMAT_VERSION,
         "input": "%s: float32 [1,%d,%d,%d]: %d RGB frames in [0,1], oldest first, then 4 constant planes of "
-                 "the motion (forward_units, strafe_units, yaw_deg, pitch_deg)"
-                 % (INPUT_NAME, channels, model.height, model.width, model.context),
-        "output": "%s: float32 [1,6,%d,%d]: dx, dy (pixels), mask, fill RGB; next = mask * newest(x+dx, y+dy) "
-                  "+ (1 - mask) * fill" % (OUTPUT_NAME, model.height, model.width),
+                 "the motion (forward_units, strafe_units, yaw_deg, pitch_deg)%s"
+                 % (INPUT_NAME, channels, model.height, model.width, model.context, extra),
+        "output": "%s: float32 [1,6,%d,%d]: dx, dy (pixels), mask, fill RGB; next = mask * warped + (1 - mask) "
+                  "* fill, warped as world_warp.py's %s warp says" % (OUTPUT_NAME, model.height, model.width,
+                                                                     model.warp),
         "context_frames": model.context,
+        "warp": model.warp,
         "input_width": model.width,
         "input_height": model.height,
     }

@@ -12,11 +12,14 @@ flow field in pixels), a mask, and a fill colour for what the warp cannot show
 The warp is done outside the net (apply_warp here in training, cv::remap in C++),
 because OpenCV 4.6's ONNX importer has no GridSample.
 
-Input "frames_and_motion": float32 [N, 3K+4, H, W]: K RGB frames in [0,1], oldest
+Input "frames_and_motion": float32 [N, 3K+4+E, H, W]: K RGB frames in [0,1], oldest
 first, then four constant planes of the commanded motion (forward_units,
-strafe_units, yaw_deg, pitch_deg; raw MotionStep values, scaled inside the net).
+strafe_units, yaw_deg, pitch_deg; raw MotionStep values, scaled inside the net), then
+E extra planes of the warp interface (world_warp.py: none for last_frame; for
+rotation_anchor the newest frame turned by the commanded rotation, RGB, and that
+rotation's in-view mask).
 Output "warp_and_fill": float32 [N, 6, H, W]: dx, dy (pixels), m in [0,1], fill RGB
-in [0,1].
+in [0,1]; with rotation_anchor the flow is added to the rotation's sampling positions.
 
 A U-Net of plain 3x3 conv + BatchNorm + ReLU (ConvBN, folded for export) from half
 resolution down to 1/16 and back to half, whose head is upsampled to full
@@ -28,6 +31,7 @@ from torch import nn
 import torch.nn.functional as F
 
 from .depth_net import AppendCoordinates, ConvBN
+from .world_warp import EXTRA_INPUT_CHANNELS, AnchorState, anchor_step, rotation_sampling, sample
 
 INPUT_NAME = "frames_and_motion"
 OUTPUT_NAME = "warp_and_fill"
@@ -63,18 +67,22 @@ class ScaleMotion(nn.Module):
 
 class WorldNet(nn.Module):
     """full_res_head: the head works at full resolution on the upsampled features and
-    the newest frame, so that the fill can carry detail (v2); without it the head works
-    at half resolution and is upsampled (v1)."""
+    the newest frame (with rotation_anchor: the newest frame turned, which lines up
+    with the output), so that the fill can carry detail (v2); without it the head works
+    at half resolution and is upsampled (v1). warp: world_warp.WARPS."""
 
-    def __init__(self, context, height, width, full_res_head=False):
+    def __init__(self, context, height, width, full_res_head=False, warp="last_frame"):
         super().__init__()
         if height % 16 or width % 16:
             raise ValueError("WorldNet: %dx%d is not a multiple of 16 in both sides" % (width, height))
-        self.context, self.height, self.width = context, height, width
+        if warp not in EXTRA_INPUT_CHANNELS:
+            raise ValueError("WorldNet: unknown warp %r (one of %s)" % (warp, ", ".join(EXTRA_INPUT_CHANNELS)))
+        self.context, self.height, self.width, self.warp = context, height, width, warp
+        self.extra_inputs = EXTRA_INPUT_CHANNELS[warp]
         self.scale_motion = ScaleMotion()
         self.coordinates = AppendCoordinates(height, width)
         c = ENCODER_CHANNELS
-        inputs = 3 * context + MOTION_CHANNELS + 2
+        inputs = 3 * context + MOTION_CHANNELS + self.extra_inputs + 2
         self.encoder = nn.ModuleList([nn.Sequential(ConvBN(inputs, c[0], 3, stride=2), ConvBN(c[0], c[0], 3))])
         for i in range(1, len(c)):
             self.encoder.append(nn.Sequential(ConvBN(c[i - 1] + MOTION_CHANNELS, c[i], 3, stride=2),
@@ -90,8 +98,11 @@ class WorldNet(nn.Module):
 
     def forward(self, frames_and_motion):
         frames = frames_and_motion[:, :3 * self.context]
-        motion = self.scale_motion(frames_and_motion[:, 3 * self.context:])
-        x = self.coordinates(torch.cat([frames, motion], 1))
+        motion_end = 3 * self.context + MOTION_CHANNELS
+        motion = self.scale_motion(frames_and_motion[:, 3 * self.context:motion_end])
+        # (An empty slice would export as a Slice OpenCV 4.6 gives one channel.)
+        extra = [frames_and_motion[:, motion_end:]] if self.extra_inputs else []
+        x = self.coordinates(torch.cat([frames, motion] + extra, 1))
         skips = []
         for i, stage in enumerate(self.encoder):
             if i > 0:
@@ -106,7 +117,9 @@ class WorldNet(nn.Module):
             x = stage(torch.cat([x, skip], 1))
         if self.full_res is not None:
             x = F.interpolate(x, scale_factor=2.0, mode="bilinear", align_corners=False)
-            out = self.head(self.full_res(torch.cat([x, frames[:, -3:]], 1)))
+            guide = (frames_and_motion[:, motion_end:motion_end + 3] if self.warp == "rotation_anchor"
+                     else frames[:, -3:])
+            out = self.head(self.full_res(torch.cat([x, guide], 1)))
         else:
             # Flow, mask and fill are smooth, and the warp carries the detail.
             out = F.interpolate(self.head(x), scale_factor=2.0, mode="bilinear", align_corners=False)
@@ -137,20 +150,45 @@ def motion_planes(motion, height, width):
     return motion[:, :, None, None].expand(-1, -1, height, width)
 
 
-def step(model, context, motion):
-    """One autoregressive step. context: float [N,K,3,H,W] in [0,1], oldest first;
-    motion: float [N,4]. Returns (next frame [N,3,H,W], context for the step after)."""
+def input_channels(model):
+    """Channels of the net's input: K frames, the motion, the warp's extra planes."""
+    return 3 * model.context + MOTION_CHANNELS + model.extra_inputs
+
+
+def net_input(model, context, motion, camera):
+    """The net's input for one step and, for rotation_anchor, the rotation's sampling
+    positions (else None). context [N,K,3,H,W], motion [N,4]."""
     n, k, _, h, w = context.shape
-    x = torch.cat([context.reshape(n, 3 * k, h, w), motion_planes(motion, h, w)], 1)
-    frame = apply_warp(context[:, -1], model(x))
-    return frame, torch.cat([context[:, 1:], frame[:, None]], 1)
+    parts = [context.reshape(n, 3 * k, h, w), motion_planes(motion, h, w)]
+    positions = None
+    if model.warp == "rotation_anchor":
+        positions, in_view = rotation_sampling(motion, camera, h, w)
+        parts += [sample(context[:, -1], positions), in_view]
+    return torch.cat(parts, 1), positions
 
 
-def rollout(model, context, motions):
+def step(model, context, motion, camera=None, state=None):
+    """One autoregressive step. context: float [N,K,3,H,W] in [0,1], oldest first;
+    motion: float [N,4]; camera (fx, fy, cx, cy) and the AnchorState for
+    rotation_anchor. Returns (next frame [N,3,H,W], context for the step after, state
+    after)."""
+    x, positions = net_input(model, context, motion, camera)
+    out = model(x)
+    last = context[:, -1]
+    if model.warp == "rotation_anchor":
+        frame, state = anchor_step(state, last, positions + out[:, 0:2], out[:, 2:3], out[:, 3:6])
+    else:
+        frame = apply_warp(last, out)
+    return frame, torch.cat([context[:, 1:], frame[:, None]], 1), state
+
+
+def rollout(model, context, motions, camera=None):
     """Autoregressive frames for motions float [N,T,4] from context [N,K,3,H,W]:
-    float [N,T,3,H,W]."""
+    float [N,T,3,H,W]. The rotation_anchor warp's anchor starts at the newest context
+    frame."""
+    state = AnchorState.start(context[:, -1]) if model.warp == "rotation_anchor" else None
     frames = []
     for t in range(motions.shape[1]):
-        frame, context = step(model, context, motions[:, t])
+        frame, context, state = step(model, context, motions[:, t], camera, state)
         frames.append(frame)
     return torch.stack(frames, 1)
