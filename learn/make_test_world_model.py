@@ -19,6 +19,12 @@ weights, so the tests work the next frame out by hand:
 world_model_five_channels.onnx is the same without the last fill channel: a wrong
 output shape.
 
+world_model_anchor.onnx has the rotation_anchor warp's interface (input [1,20,96,128]: the
+16 planes above, then the newest frame turned by the commanded rotation, R, G, B, and its
+in-view mask): flow 0, mask = 1 - strafe_units, fill = the turned newest frame (channels
+16..18). So a turn without strafe is the rotation warp alone, worked out by hand in the
+tests, and a strafe of 1 returns the turned frame as the net read it.
+
 Uses only onnx (Debian python3-onnx), no torch. Opset 11, as the real model's export.
 
   /usr/bin/python3 learn/make_test_world_model.py [--out-dir test/data]"""
@@ -36,6 +42,8 @@ CONTEXT_FRAMES = 4
 OPSET = 11
 IN_CHANNELS = 3 * CONTEXT_FRAMES + 4
 FORWARD, STRAFE, YAW, PITCH = range(3 * CONTEXT_FRAMES, IN_CHANNELS)
+ANCHOR_IN_CHANNELS = IN_CHANNELS + 4
+TURNED = IN_CHANNELS  # first channel of the turned newest frame
 NEWEST = 3 * (CONTEXT_FRAMES - 1)  # first channel of the newest frame
 
 
@@ -52,16 +60,28 @@ def weights_and_biases():
     return weights, biases
 
 
-def build_model(channels):
+def anchor_weights_and_biases():
+    """world_model_anchor.onnx's rows (dx, dy, mask, fill R, G, B) over its 20 input channels."""
+    weights = np.zeros((6, ANCHOR_IN_CHANNELS), dtype=np.float32)
+    biases = np.zeros(6, dtype=np.float32)
+    weights[2, STRAFE] = -1.0
+    biases[2] = 1.0
+    for c in range(3):
+        weights[3 + c, TURNED + c] = 1.0
+    return weights, biases
+
+
+def build_model(channels, weights_and_biases=weights_and_biases, name="world_model_shift"):
     """The 1x1 convolution's first `channels` output channels."""
     weights, biases = weights_and_biases()
-    weight = numpy_helper.from_array(weights[:channels].reshape(channels, IN_CHANNELS, 1, 1), "conv_weight")
+    inputs = weights.shape[1]
+    weight = numpy_helper.from_array(weights[:channels].reshape(channels, inputs, 1, 1), "conv_weight")
     bias = numpy_helper.from_array(biases[:channels], "conv_bias")
     conv = helper.make_node("Conv", [INPUT_NAME, "conv_weight", "conv_bias"], [OUTPUT_NAME],
                             kernel_shape=[1, 1])
     graph = helper.make_graph(
-        [conv], "world_model_shift",
-        [helper.make_tensor_value_info(INPUT_NAME, TensorProto.FLOAT, [1, IN_CHANNELS, HEIGHT, WIDTH])],
+        [conv], name,
+        [helper.make_tensor_value_info(INPUT_NAME, TensorProto.FLOAT, [1, inputs, HEIGHT, WIDTH])],
         [helper.make_tensor_value_info(OUTPUT_NAME, TensorProto.FLOAT, [1, channels, HEIGHT, WIDTH])],
         initializer=[weight, bias])
     model = helper.make_model(graph, producer_name="valerant make_test_world_model.py",
@@ -76,9 +96,11 @@ def main():
     parser.add_argument("--out-dir", default=default_dir, help="folder the models are written to")
     args = parser.parse_args()
     os.makedirs(args.out_dir, exist_ok=True)
-    for name, channels in (("world_model_shift.onnx", 6), ("world_model_five_channels.onnx", 5)):
+    for name, model in (("world_model_shift.onnx", build_model(6)),
+                        ("world_model_five_channels.onnx", build_model(5)),
+                        ("world_model_anchor.onnx", build_model(6, anchor_weights_and_biases, "world_model_anchor"))):
         path = os.path.join(args.out_dir, name)
-        onnx.save(build_model(channels), path)
+        onnx.save(model, path)
         print("wrote %s (%d bytes)" % (path, os.path.getsize(path)))
 
 

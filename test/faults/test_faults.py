@@ -41,7 +41,8 @@ SNAPSHOT_FILES = ["config.yaml", "keyframes.pcd", "keyframes.txt", "trajectory.t
 MAP_EXPORTS = ["map.ply", "map.pcd", "map.bt", "mesh.obj", "mesh.glb", "overview.png", "orbit.png"]
 USAGE_ERROR = 2  # the exit status of a bad command line (src/tools/command_line.h)
 CONFIG_FLAGS = ["--config", "--set"]
-TEST_WORLD_MODEL = os.path.join(ROOT, "test", "data", "world_model_shift.onnx")  # learn/make_test_world_model.py
+# learn/make_test_world_model.py's model of the shipped warp (rotation_anchor)
+TEST_WORLD_MODEL = os.path.join(ROOT, "test", "data", "world_model_anchor.onnx")
 # Every tool (valerant_bench: every benchmark) with every flag its --help must list, the
 # flags a run needs, and an integer flag with which to give it a bad number.
 TOOL_FLAGS = {
@@ -463,7 +464,7 @@ class Faults(unittest.TestCase):
         self.assertIn("crc", err.lower())
 
     def test_world_model_bench_on_the_test_model(self):
-        # valerant_bench wm end to end on one map and spawn with the hand-made shift model
+        # valerant_bench wm end to end on one map and spawn with the hand-made anchor model
         # (learn/make_test_world_model.py): every part of its JSON line and one sheet.
         out = self.folder("wm_bench")
         status, stdout, err = run([tool("valerant_bench"), "wm", "--maps", "oa_dm2", "--spawns", "1", "--model",
@@ -537,7 +538,7 @@ class LearnedWorldEpisodes(unittest.TestCase):
     """valerant_explore with world.backend learned on the hand-made model
     (learn/make_test_world_model.py), from an engine spawn (the engine shadow gives the
     ground truth) and from a PNG the engine rendered (no ground truth)."""
-    MODEL = os.path.join(ROOT, "test", "data", "world_model_shift.onnx")
+    MODEL = os.path.join(ROOT, "test", "data", "world_model_anchor.onnx")  # the shipped warp, rotation_anchor
     LEARNED = ["--set", "world.backend=learned", "--set", "world.learned.model=" + MODEL]
 
     @classmethod

@@ -20,13 +20,17 @@ using namespace valerant;
 namespace {
 
 const std::string kShiftModel = std::string(VALERANT_SOURCE_DIR) + "/test/data/world_model_shift.onnx";
+const std::string kAnchorModel = std::string(VALERANT_SOURCE_DIR) + "/test/data/world_model_anchor.onnx";
 
-Config smallConfig() {
+// The shift model's frames are worked out by hand with the last_frame warp; the anchor
+// model (flow 0, mask 1: the rotation warp alone) exercises rotation_anchor's state.
+Config smallConfig(const std::string& model = kShiftModel, const std::string& warp = "last_frame") {
   Config c;
   c.world.backend = "learned";
   c.world.width = 160;
   c.world.height = 120;
-  c.world.learned.model = kShiftModel;
+  c.world.learned.model = model;
+  c.world.learned.warp = warp;
   return c;
 }
 
@@ -160,6 +164,29 @@ TEST(LearnedWorld, RolloutsLeaveTheStateAloneCommitsSlideTheContextRestoresRepea
   EXPECT_THROW(world->commit(foreign), InputError);
   world->dropCheckpoint(start);
   EXPECT_THROW(world->restore(start), InputError);
+}
+
+TEST(LearnedWorld, AnchorWarpStateIsCommittedCheckpointedAndRestored) {
+  const Config config = smallConfig(kAnchorModel, "rotation_anchor");
+  auto world = screenshotWorld(config);
+  const CheckpointId start = world->checkpoint();
+  // Committing a turn and turning on continues the same anchor: the frames are those of
+  // one rollout of both turns' keys (j at jq's rate, then l at lq's).
+  const Rollout both = world->rollout(makeActionSequence("j:57,l:20", config));
+  const Rollout jq = world->rollout(makeActionSequence("jq", config));
+  for (size_t i = 0; i < jq.frames.size(); ++i)
+    EXPECT_EQ(differences(jq.frames[i], both.frames[i]), 0.0) << "frame " << i;
+  world->commit(jq);
+  const CheckpointId turned = world->checkpoint();
+  const Rollout left = world->rollout(makeActionSequence("l:20", config));
+  ASSERT_EQ(left.frames.size(), 20u);
+  for (size_t i = 0; i < 20; ++i) EXPECT_EQ(differences(left.frames[i], both.frames[57 + i]), 0.0) << "frame " << i;
+  // A later commit leaves the checkpoints' anchors as they were.
+  world->commit(world->rollout(makeActionSequence("uw", config)));
+  world->restore(turned);
+  expectSameFrames(world->rollout(makeActionSequence("l:20", config)), left);
+  world->restore(start);
+  expectSameFrames(world->rollout(makeActionSequence("j:57,l:20", config)), both);
 }
 
 TEST(LearnedWorld, SameContextAndKeysGiveTheSameBytesInAnotherInstance) {

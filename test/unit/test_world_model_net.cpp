@@ -21,7 +21,7 @@ constexpr int kWidth = 128, kHeight = 96, kContext = 4;
 
 std::string loadError(const std::string& path, int context_frames = kContext) {
   try {
-    WorldModelNet net(path, kWidth, kHeight, context_frames);
+    WorldModelNet net(path, kWidth, kHeight, context_frames, WorldWarp::kLastFrame, 90);
   } catch (const InputError& e) {
     return e.what();
   }
@@ -104,7 +104,7 @@ TEST(WarpAndFill, MaskBlendsTheFillAndTheResultIsClampedAndRounded) {
 }
 
 TEST(WorldModelNet, ShiftModelGivesTheHandWorkedFrame) {
-  WorldModelNet net(kShiftModel, kWidth, kHeight, kContext);
+  WorldModelNet net(kShiftModel, kWidth, kHeight, kContext, WorldWarp::kLastFrame, 90);
   EXPECT_EQ(net.width(), kWidth);
   EXPECT_EQ(net.height(), kHeight);
   EXPECT_EQ(net.contextFrames(), kContext);
@@ -115,7 +115,8 @@ TEST(WorldModelNet, ShiftModelGivesTheHandWorkedFrame) {
   MotionStep turn_right;  // yaw -2 deg: dx = 2, the picture moves two pixels left
   turn_right.yaw_deg = -2;
   turn_right.forward_units = 7;  // not read by this model
-  const cv::Mat right = net.next(context, turn_right);
+  AnchorState unused;  // the last_frame warp has no state
+  const cv::Mat right = net.next(context, turn_right, unused);
   ASSERT_EQ(right.type(), CV_8UC3);
   ASSERT_EQ(right.size(), cv::Size(kWidth, kHeight));
   EXPECT_EQ(differences(right, shiftedByHand(newest, 2, 0)), 0.0);
@@ -123,21 +124,22 @@ TEST(WorldModelNet, ShiftModelGivesTheHandWorkedFrame) {
   MotionStep left_and_down;  // yaw 3, pitch 1: dx = -3, dy = 1
   left_and_down.yaw_deg = 3;
   left_and_down.pitch_deg = 1;
-  EXPECT_EQ(differences(net.next(context, left_and_down), shiftedByHand(newest, -3, 1)), 0.0);
+  EXPECT_EQ(differences(net.next(context, left_and_down, unused), shiftedByHand(newest, -3, 1)), 0.0);
 
   // One unit of strafe: mask 0, the frame is the fill, i.e. the newest frame as the net
   // read it from its input planes (another frame or swapped channels would differ).
   MotionStep strafe;
   strafe.strafe_units = 1;
   strafe.yaw_deg = 5;
-  EXPECT_EQ(differences(net.next(context, strafe), newest), 0.0);
+  EXPECT_EQ(differences(net.next(context, strafe, unused), newest), 0.0);
 }
 
 TEST(WorldModelNet, WrongContextIsAnErrorNamingTheModel) {
-  WorldModelNet net(kShiftModel, kWidth, kHeight, kContext);
+  WorldModelNet net(kShiftModel, kWidth, kHeight, kContext, WorldWarp::kLastFrame, 90);
   const auto errorOf = [&](const std::vector<cv::Mat>& context) {
     try {
-      net.next(context, MotionStep{});
+      AnchorState unused;
+      net.next(context, MotionStep{}, unused);
     } catch (const InputError& e) {
       return std::string(e.what());
     }

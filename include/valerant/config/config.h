@@ -30,6 +30,7 @@ struct LearnedWorldConfig {
   int width = 128;           // the net's frame size: OpenCV 4.6 cannot read it from the file
   int height = 96;
   int context_frames = 4;    // K frames the net sees
+  std::string warp = "rotation_anchor";  // last_frame | rotation_anchor: the warp the model was trained with
 };
 
 struct WorldConfig {

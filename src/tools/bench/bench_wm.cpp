@@ -137,9 +137,10 @@ struct DepthMeans {
 std::vector<cv::Mat> imagine(WorldModelNet& model, const cv::Mat& screenshot, const ActionSequence& actions,
                              std::vector<double>& step_ms) {
   std::vector<cv::Mat> context(model.contextFrames(), screenshot), frames;
+  AnchorState anchor = AnchorState::start(screenshot);
   for (const MotionStep& step : actions.steps) {
     const ThreadClock start = ThreadClock::now();
-    cv::Mat next = model.next(context, step);
+    cv::Mat next = model.next(context, step, anchor);
     step_ms.push_back(1e3 * (ThreadClock::now() - start).cpu);
     context.erase(context.begin());
     context.push_back(next);
@@ -214,7 +215,8 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
   std::vector<ActionSequence> sequences;  // validated before any map is loaded
   for (const std::string& c : candidateNames()) sequences.push_back(makeActionSequence(c, config));
   cv::setNumThreads(1);
-  WorldModelNet model(model_path, learned.width, learned.height, learned.context_frames);
+  WorldModelNet model(model_path, learned.width, learned.height, learned.context_frames, parseWorldWarp(learned.warp),
+                      config.world.fov_x_deg);
   const DepthPrior prior(packageFilePath(config.slam.depth_prior_model),
                          cv::Size(config.slam.depth_prior_width, config.slam.depth_prior_height));
   // The engine renders what the model was trained on; the SLAM sees the configured

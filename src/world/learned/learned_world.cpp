@@ -11,7 +11,8 @@ namespace valerant {
 
 WorldModelNet loadWorldModelNet(const Config& config) {
   const LearnedWorldConfig& l = config.world.learned;
-  return WorldModelNet(packageFilePath(l.model), l.width, l.height, l.context_frames);
+  return WorldModelNet(packageFilePath(l.model), l.width, l.height, l.context_frames, parseWorldWarp(l.warp),
+                       config.world.fov_x_deg);
 }
 
 cv::Mat readScreenshot(const std::string& path) {
@@ -53,6 +54,7 @@ LearnedWorld::LearnedWorld(WorldModelNet net, const cv::Mat& start_rgb, std::opt
   cv::resize(start_rgb, start, cv::Size(net_.width(), net_.height()), 0, 0, cv::INTER_AREA);
   // A single view is the whole context, repeated; the shown context is that one frame.
   state_.net_frames.assign(net_.contextFrames(), start);
+  state_.anchor = AnchorState::start(start);
   state_.shown.push_back(shownFrame(start));
   if (start_truth) state_.shown_truth.push_back(*start_truth);
 }
@@ -118,7 +120,7 @@ Rollout LearnedWorld::rollout(const ActionSequence& actions) {
   }
   for (size_t i = 0; i < actions.steps.size(); ++i) {
     const std::vector<cv::Mat> window(pending.end.net_frames.begin(), pending.end.net_frames.end());
-    const cv::Mat next = net_.next(window, actions.steps[i]);
+    const cv::Mat next = net_.next(window, actions.steps[i], pending.end.anchor);
     const cv::Mat shown = shownFrame(next);
     push(pending.end, next, shown, shadow_ ? &truth.truth[i] : nullptr);
     r.frames.push_back(shown);

@@ -12,6 +12,7 @@ const char* const kInputName = "frames_and_motion";
 const char* const kOutputName = "warp_and_fill";
 constexpr int kMotionChannels = 4;  // forward_units, strafe_units, yaw_deg, pitch_deg
 constexpr int kOutputChannels = 6;  // dx, dy, mask, fill R, G, B
+constexpr int kRotationAnchorPlanes = 4;  // the newest frame turned (R, G, B), in_view
 
 std::string expectedOutputText(int width, int height) {
   return "[1," + std::to_string(kOutputChannels) + "," + std::to_string(height) + "," + std::to_string(width) +
@@ -50,8 +51,18 @@ cv::Mat warpAndFill(const cv::Mat& last, const cv::Mat& flow, const cv::Mat& mas
   return next;
 }
 
-WorldModelNet::WorldModelNet(const std::string& path, int width, int height, int context_frames)
-    : path_(path), width_(width), height_(height), context_frames_(context_frames) {
+WorldWarp parseWorldWarp(const std::string& name) {
+  if (name == "last_frame") return WorldWarp::kLastFrame;
+  if (name == "rotation_anchor") return WorldWarp::kRotationAnchor;
+  throw InputError("world.learned.warp", "'" + name + "' is not a warp: last_frame or rotation_anchor");
+}
+
+WorldModelNet::WorldModelNet(const std::string& path, int width, int height, int context_frames, WorldWarp warp,
+                             double fov_x_deg)
+    : path_(path),
+      camera_(CameraIntrinsics::fromHorizontalFov(width, height, fov_x_deg)),
+      context_frames_(context_frames),
+      warp_(warp) {
   if (width <= 0 || height <= 0 || context_frames <= 0)
     throw InputError(path, "world model frame size " + std::to_string(width) + "x" + std::to_string(height) +
                                " and context " + std::to_string(context_frames) + " frames must be positive");
@@ -65,8 +76,11 @@ WorldModelNet::WorldModelNet(const std::string& path, int width, int height, int
   net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   // Probe on zeros: a model of another interface fails here, not in the middle of a run.
-  const int channels = 3 * context_frames + kMotionChannels;
-  forward(cv::Mat(std::vector<int>{1, channels, height, width}, CV_32F, cv::Scalar(0)));
+  forward(cv::Mat(std::vector<int>{1, inputChannels(), height, width}, CV_32F, cv::Scalar(0)));
+}
+
+int WorldModelNet::inputChannels() const {
+  return 3 * context_frames_ + kMotionChannels + (warp_ == WorldWarp::kRotationAnchor ? kRotationAnchorPlanes : 0);
 }
 
 cv::Mat WorldModelNet::forward(const cv::Mat& blob) {
@@ -77,32 +91,33 @@ cv::Mat WorldModelNet::forward(const cv::Mat& blob) {
   } catch (const cv::Exception& e) {
     throw InputError(path_, std::string("OpenCV cannot run the world model with input '") + kInputName + "' " +
                                 blobShapeText(blob) + " (" + std::to_string(context_frames_) + " context frames of " +
-                                std::to_string(width_) + "x" + std::to_string(height_) + ": the size it was made for?) and output '" +
+                                std::to_string(width()) + "x" + std::to_string(height()) + " with the " +
+                                (warp_ == WorldWarp::kRotationAnchor ? "rotation_anchor" : "last_frame") +
+                                " warp: the size and warp it was made for?) and output '" +
                                 kOutputName + "': " + e.err);
   }
-  const bool expected = out.dims == 4 && out.size[0] == 1 && out.size[1] == kOutputChannels && out.size[2] == height_ &&
-                        out.size[3] == width_ && out.type() == CV_32F;
+  const bool expected = out.dims == 4 && out.size[0] == 1 && out.size[1] == kOutputChannels &&
+                        out.size[2] == height() && out.size[3] == width() && out.type() == CV_32F;
   if (!expected)
     throw InputError(path_, std::string("output '") + kOutputName + "' has shape " + blobShapeText(out) +
                                 (out.type() == CV_32F ? "" : " (not float32)") + " for input " + blobShapeText(blob) +
-                                ", expected " + expectedOutputText(width_, height_));
+                                ", expected " + expectedOutputText(width(), height()));
   return out.clone();  // forward's result may alias the Net's buffers
 }
 
-cv::Mat WorldModelNet::next(const std::vector<cv::Mat>& context, const MotionStep& motion) {
+cv::Mat WorldModelNet::next(const std::vector<cv::Mat>& context, const MotionStep& motion, AnchorState& anchor) {
   if (static_cast<int>(context.size()) != context_frames_)
     throw InputError(path_, "world model context has " + std::to_string(context.size()) + " frames, expected " +
                                 std::to_string(context_frames_));
-  const cv::Size size(width_, height_);
+  const cv::Size size(width(), height());
   for (size_t k = 0; k < context.size(); ++k)
     if (context[k].type() != CV_8UC3 || context[k].size() != size)
       throw InputError(path_, "world model context frame " + std::to_string(k) + " is a " +
                                   std::to_string(context[k].cols) + "x" + std::to_string(context[k].rows) + " " +
-                                  cv::typeToString(context[k].type()) + ", expected a " + std::to_string(width_) +
-                                  "x" + std::to_string(height_) + " CV_8UC3 RGB frame");
+                                  cv::typeToString(context[k].type()) + ", expected a " + std::to_string(width()) +
+                                  "x" + std::to_string(height()) + " CV_8UC3 RGB frame");
 
-  const int channels = 3 * context_frames_ + kMotionChannels;
-  cv::Mat blob(std::vector<int>{1, channels, height_, width_}, CV_32F);
+  cv::Mat blob(std::vector<int>{1, inputChannels(), height(), width()}, CV_32F);
   for (int k = 0; k < context_frames_; ++k) {
     cv::Mat unit;
     context[k].convertTo(unit, CV_32FC3, 1.0 / 255.0);
@@ -113,12 +128,27 @@ cv::Mat WorldModelNet::next(const std::vector<cv::Mat>& context, const MotionSte
   const double motion_values[kMotionChannels] = {motion.forward_units, motion.strafe_units, motion.yaw_deg,
                                                  motion.pitch_deg};
   for (int i = 0; i < kMotionChannels; ++i) plane(blob, 3 * context_frames_ + i).setTo(motion_values[i]);
+  RotationSampling rotation;
+  if (warp_ == WorldWarp::kRotationAnchor) {
+    if (anchor.anchor.size() != size || anchor.coords.size() != size || anchor.valid.size() != size)
+      throw InputError(path_, "the rotation_anchor warp's state is not that of a " + std::to_string(width()) + "x" +
+                                  std::to_string(height()) + " rollout (not started with AnchorState::start?)");
+    rotation = rotationSampling(motion, camera_);
+    cv::Mat newest;
+    context.back().convertTo(newest, CV_32FC3, 1.0 / 255.0);
+    std::vector<cv::Mat> turned;
+    cv::split(sampleBilinear(newest, rotation.positions, false), turned);
+    const int first = 3 * context_frames_ + kMotionChannels;
+    for (int c = 0; c < 3; ++c) turned[c].copyTo(plane(blob, first + c));
+    rotation.in_view.copyTo(plane(blob, first + 3));
+  }
 
   const cv::Mat out = forward(blob);
   cv::Mat flow, fill;
   cv::merge(std::vector<cv::Mat>{plane(out, 0), plane(out, 1)}, flow);
   cv::merge(std::vector<cv::Mat>{plane(out, 3), plane(out, 4), plane(out, 5)}, fill);
-  return warpAndFill(context.back(), flow, plane(out, 2), fill);
+  if (warp_ == WorldWarp::kLastFrame) return warpAndFill(context.back(), flow, plane(out, 2), fill);
+  return anchorStep(anchor, context.back(), rotation.positions + flow, plane(out, 2), fill);
 }
 
 }  // namespace valerant

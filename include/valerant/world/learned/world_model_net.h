@@ -4,19 +4,27 @@
 // next-frame predictor, run autoregressively by its callers.
 //
 // The model's contract (docs/world_model.md, section "Backend"):
-//   input  "frames_and_motion" float32 [1, 3K+4, H, W]: the K most recent frames, oldest
+//   input  "frames_and_motion" float32 [1, 3K+4+E, H, W]: the K most recent frames, oldest
 //          first, each as R,G,B planes in [0,1] (frame k is channels 3k..3k+2), then four
 //          constant planes with the commanded motion of the frame to produce, the raw
 //          MotionStep values forward_units, strafe_units, yaw_deg, pitch_deg (the net
-//          scales them itself);
+//          scales them itself), then the warp's E extra planes;
 //   output "warp_and_fill" float32 [1, 6, H, W]: flow dx, dy in pixels, mask m in [0,1],
-//          fill R,G,B in [0,1]; the next frame is warpAndFill() of the newest frame.
+//          fill R,G,B in [0,1].
+// Two warps (world.learned.warp), which the file does not tell OpenCV, so the
+// configuration must name the one the model was trained with (its model card does):
+//   last_frame (models v1, v2; E = 0): the next frame is warpAndFill() of the newest frame;
+//   rotation_anchor (v3; E = 4: the newest frame sampled at rotationSampling()'s positions,
+//          R,G,B, and their in_view mask): the flow is added to those positions and the
+//          next frame is anchorStep() (anchor_warp.h).
 #include <opencv2/core.hpp>
 #include <opencv2/dnn.hpp>
 #include <string>
 #include <vector>
 
+#include "valerant/common/camera.h"
 #include "valerant/world/action_sequence.h"
+#include "valerant/world/learned/anchor_warp.h"
 
 namespace valerant {
 
@@ -26,32 +34,45 @@ namespace valerant {
 // all of one size. Returns CV_8UC3 RGB of that size.
 cv::Mat warpAndFill(const cv::Mat& last, const cv::Mat& flow, const cv::Mat& mask, const cv::Mat& fill);
 
+enum class WorldWarp { kLastFrame, kRotationAnchor };
+
+// "last_frame" or "rotation_anchor" (world.learned.warp); throws InputError naming the value otherwise.
+WorldWarp parseWorldWarp(const std::string& name);
+
 class WorldModelNet {
  public:
-  // Loads the ONNX file at `path` for frames of `width` x `height` and `context_frames`
-  // (K) frames of context, and runs one probe forward on zeros. Throws InputError naming
-  // `path` when it is missing, unreadable or not a model of this contract.
-  WorldModelNet(const std::string& path, int width, int height, int context_frames);
+  // Loads the ONNX file at `path` for frames of `width` x `height` seen with a horizontal
+  // field of view of `fov_x_deg` (square pixels, principal point at the centre: the
+  // rotation warp's camera), `context_frames` (K) frames of context and `warp`, and runs
+  // one probe forward on zeros. Throws InputError naming `path` when it is missing,
+  // unreadable or not a model of this contract.
+  WorldModelNet(const std::string& path, int width, int height, int context_frames, WorldWarp warp,
+                double fov_x_deg);
 
   // `context`: exactly contextFrames() CV_8UC3 RGB frames of width() x height(), oldest
-  // first. Returns the next frame, CV_8UC3 RGB, width() x height(). Throws InputError on
-  // a wrong context.
-  cv::Mat next(const std::vector<cv::Mat>& context, const MotionStep& motion);
+  // first; `anchor`: the rotation_anchor warp's state of the same rollout (started with
+  // AnchorState::start at the first context frame, then passed to every step; the
+  // last_frame warp leaves it alone). Returns the next frame, CV_8UC3 RGB, width() x
+  // height(). Throws InputError on a wrong context.
+  cv::Mat next(const std::vector<cv::Mat>& context, const MotionStep& motion, AnchorState& anchor);
 
-  int width() const { return width_; }
-  int height() const { return height_; }
+  int width() const { return camera_.width; }
+  int height() const { return camera_.height; }
   int contextFrames() const { return context_frames_; }
+  WorldWarp warp() const { return warp_; }
   const std::string& path() const { return path_; }
 
  private:
-  // One forward pass of a [1,3K+4,H,W] blob; the [1,6,H,W] output as its own copy.
+  // Input channels: 3K + 4 + the warp's extra planes.
+  int inputChannels() const;
+  // One forward pass of a [1,inputChannels(),H,W] blob; the [1,6,H,W] output as its own copy.
   // Throws InputError naming the model when it cannot run or gives another shape.
   cv::Mat forward(const cv::Mat& blob);
 
   std::string path_;
-  int width_;
-  int height_;
+  CameraIntrinsics camera_;
   int context_frames_;
+  WorldWarp warp_;
   cv::dnn::Net net_;
 };
 
