@@ -14,6 +14,16 @@
 
 namespace valerant::tools {
 
+// Tools that run the game engine themselves (valerant_render, valerant_slam, the render,
+// slam and depth benchmarks) refuse another world.backend instead of quietly rendering
+// the engine: a usage error naming the setting and where the learned world is measured.
+inline void requireEngineWorld(const Config& config, const std::string& tool) {
+  if (config.world.backend != "quake3")
+    throw UsageError("world.backend " + config.world.backend,
+                     tool + " runs the game engine only (world.backend quake3); the learned world is measured by "
+                            "valerant_bench wm and explored by valerant_explore");
+}
+
 class ToolConfig {
  public:
   // Adds --config and --set to `app`.

@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
   tools::addInteger(app, "--every", every, "write the images of every Nth frame (and the last)", 1);
   return tools::runTool(app, argc, argv, [&] {
     const Config config = tool_config.document().parse();
+    tools::requireEngineWorld(config, "valerant_render");
     std::vector<std::string> candidates = candidateNames();
     if (candidate_flag->count()) candidates = {candidate};
     std::vector<ActionSequence> sequences;  // validated before any rendering

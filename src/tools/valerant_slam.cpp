@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   return tools::runTool(app, argc, argv, [&] {
     const Config config = tool_config.document().parse();
+    tools::requireEngineWorld(config, "valerant_slam");
     const std::string backend = config.slam.backend;
     std::vector<ActionSequence> sequences;  // validated before any rendering
     tools::checkFlagValues([&] {

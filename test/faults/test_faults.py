@@ -538,8 +538,10 @@ class LearnedWorldEpisodes(unittest.TestCase):
     """valerant_explore with world.backend learned on the hand-made model
     (learn/make_test_world_model.py), from an engine spawn (the engine shadow gives the
     ground truth) and from a PNG the engine rendered (no ground truth)."""
-    MODEL = os.path.join(ROOT, "test", "data", "world_model_anchor.onnx")  # the shipped warp, rotation_anchor
-    LEARNED = ["--set", "world.backend=learned", "--set", "world.learned.model=" + MODEL]
+    # The shift model (last_frame warp) moves the picture in walks too, so its episodes map.
+    MODEL = os.path.join(ROOT, "test", "data", "world_model_shift.onnx")
+    LEARNED = ["--set", "world.backend=learned", "--set", "world.learned.model=" + MODEL,
+               "--set", "world.learned.warp=last_frame"]
 
     @classmethod
     def setUpClass(cls):
@@ -551,6 +553,14 @@ class LearnedWorldEpisodes(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         shutil.rmtree(cls.scratch, ignore_errors=True)
+
+    def test_engine_tools_refuse_the_learned_world(self):
+        for command in ([tool("valerant_render"), "--out", os.path.join(self.scratch, "render")],
+                        [tool("valerant_bench"), "slam"]):
+            status, _, err = run(command + self.LEARNED)
+            self.assertEqual(status, 2, err)
+            self.assertIn("world.backend learned: ", err)
+            self.assertIn("runs the game engine only (world.backend quake3)", err)
 
     def assertFinishedWithMap(self, out, status, err):
         self.assertEqual(status, 0, err)
@@ -634,7 +644,7 @@ class LearnedWorldEpisodes(unittest.TestCase):
         port = str(13000 + os.getpid() % 1000)
         launch = subprocess.Popen(["roslaunch", "-p", port, "valerant", "explore.launch", "budget:=2",
                                    "image:=" + os.path.join(rendered, "spawn.png"), "output_dir:=" + out,
-                                   "set:=world.backend=learned world.learned.model=" + self.MODEL],
+                                   "set:=world.backend=learned world.learned.warp=last_frame world.learned.model=" + self.MODEL],
                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                   env=dict(os.environ, ROS_MASTER_URI="http://localhost:" + port),
                                   start_new_session=True)

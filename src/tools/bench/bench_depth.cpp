@@ -83,6 +83,7 @@ class ScoreMeans {
 // Without --maps the configuration's map; without --model the configuration's model.
 nlohmann::json runDepthBench(Config config, const std::optional<std::string>& maps_flag, int spawns,
                              const std::optional<std::string>& model_flag) {
+  tools::requireEngineWorld(config, "valerant_bench depth");
   const std::vector<std::string> maps =
       maps_flag ? commaList("--maps", *maps_flag) : std::vector<std::string>{config.world.map};
   // --model is relative to the working directory, the configured model to the package folder.

@@ -20,6 +20,7 @@ double peakResidentMiB() {
 namespace {
 
 nlohmann::json runRenderBench(const Config& config, long frames) {
+  tools::requireEngineWorld(config, "valerant_bench render");
   const auto load_start = std::chrono::steady_clock::now();
   auto map = quake3::loadQuake3Map(config.world.map, config.world.patch_level);
   quake3::Quake3World world(map, config);

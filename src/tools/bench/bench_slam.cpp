@@ -35,6 +35,7 @@ int pinToOneCpu() {
 }
 
 nlohmann::json runSlamBench(const Config& config, const std::string& candidate_list, long repeats) {
+  tools::requireEngineWorld(config, "valerant_bench slam");
   const std::string backend = config.slam.backend;
   std::vector<ActionSequence> sequences;  // validated before the map is loaded
   checkFlagValues([&] {
