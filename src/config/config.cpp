@@ -212,6 +212,7 @@ void readCollision(Section s, CollisionConfig& c) {
   s.number("body_radius", c.body_radius, 0.0, 10.0);
   s.number("height_low", c.height_low, -10.0, 10.0);
   s.number("height_high", c.height_high, -10.0, 10.0);
+  s.number("step_height", c.step_height, 0.0, 10.0);
   s.number("min_confidence", c.min_confidence, 0.0, 1e6);
   s.number("n_occ", c.n_occ, 1, 10000000);
   s.number("n_occ_consecutive", c.n_occ_consecutive, 1, 1000);
@@ -494,6 +495,15 @@ Config ConfigDocument::parse() const {
   top.finish();
   if (c.collision.height_low >= c.collision.height_high)
     throw InputError(source, "collision.height_low: must be below collision.height_high");
+  // A step below eta_low would make the stepped cylinder block on points the paper's
+  // ignores; one at eta_high would leave it nothing to count.
+  if (const double s = c.collision.step_height; s != 0 && (s < c.collision.height_low || s >= c.collision.height_high)) {
+    const std::string key = "collision.step_height";
+    std::ostringstream message;
+    message << key << ": " << s << " is neither 0 (the paper's test) nor within [collision.height_low, "
+            << "collision.height_high) = [" << c.collision.height_low << ", " << c.collision.height_high << ")";
+    throw InputError(origins_.count(key) ? origins_.at(key) : source, message.str());
+  }
   // Short translations and turns are prefixes of uw / jq: shorter than their horizon.
   for (const auto& [key, frames] : {std::pair{"policy.short_translation_frames", &c.policy.short_translation_frames},
                                     std::pair{"policy.short_turn_frames", &c.policy.short_turn_frames}})

@@ -57,12 +57,16 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     first_unsafe = reference = frame;
   };
   if (config_.pointcloud_enabled) {
+    // The stepped body follows one support height along the branch: every height from
+    // one datum, the branch's first floor (step_support.h).
+    const FloorPlane& start = floors.front();
+    const bool stepped = config_.step_height > 0;
     std::vector<HeightedPoint> points;
     for (const KeyframePoints& kf : keyframes_)
-      for (const auto& p : kf.points)
-        points.push_back({p.position.cast<double>(), floors[kf.frame].normalisedHeight(p.position.cast<double>()),
-                          p.confidence});
-    const FloorPlane& start = floors.front();
+      for (const auto& p : kf.points) {
+        const FloorPlane& datum = stepped ? start : floors[kf.frame];
+        points.push_back({p.position.cast<double>(), datum.normalisedHeight(p.position.cast<double>()), p.confidence});
+      }
     if (committed_ && start.cameraHeight() > 0) {
       const double radius = config_.body_radius * start.cameraHeight();
       for (const auto& p : *committed_) {

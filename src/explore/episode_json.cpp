@@ -1,5 +1,7 @@
 #include "valerant/explore/episode_json.h"
 
+#include <algorithm>
+
 namespace valerant {
 
 nlohmann::json toJson(const BranchVerdict& v) {
@@ -28,8 +30,15 @@ nlohmann::json toJson(const StepRecord& r) {
     nlohmann::json v = toJson(c.verdict);
     if (!c.truth.empty()) {
       int solid = 0;
-      for (const auto& f : c.truth) solid += f.in_solid;
+      double highest_floor = c.truth.front().floor_z;
+      for (const auto& f : c.truth) {
+        solid += f.in_solid;
+        highest_floor = std::max(highest_floor, f.floor_z);
+      }
       v["truth_in_solid_frames"] = solid;
+      // How far up the true path climbs (game units; a stair is 16, a step at most 18):
+      // tells a rejected climb from a rejected wall in the record.
+      v["truth_rise_units"] = highest_floor - c.truth.front().floor_z;
       if (&c - r.candidates.data() == r.chosen) in_solid_frames = solid;
     }
     verdicts.push_back(v);

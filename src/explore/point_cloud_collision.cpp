@@ -1,9 +1,12 @@
 #include "valerant/explore/point_cloud_collision.h"
 
+#include "valerant/explore/step_support.h"
+
 namespace valerant {
 
 std::vector<int> bodyCylinderCounts(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& samples,
                                     const CollisionConfig& config, double radius) {
+  if (config.step_height > 0) return steppedBodyCounts(points, samples, config, radius).counts;
   // Only body-level, confident points can ever count; filter them once.
   std::vector<Eigen::Vector3d> body;
   for (const auto& p : points)

@@ -57,6 +57,7 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_DOUBLE_EQ(c.collision.body_radius, 0.21);
   EXPECT_DOUBLE_EQ(c.collision.height_low, 0.18);
   EXPECT_DOUBLE_EQ(c.collision.height_high, 1.19);
+  EXPECT_DOUBLE_EQ(c.collision.step_height, 0.0);  // [ours], off: the paper's cylinder
   EXPECT_DOUBLE_EQ(c.collision.min_confidence, 4.0);
   EXPECT_EQ(c.collision.n_occ, 30);
   EXPECT_EQ(c.collision.n_occ_consecutive, 2);
@@ -333,6 +334,17 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
             "--set policy.max_cell_rise=-0.1: policy.max_cell_rise: value -0.1 outside [0, 100]");
   EXPECT_EQ(errorOfOverride("policy.goal_move", "1.5"),
             "--set policy.goal_move=1.5: policy.goal_move: expected true or false, got '1.5'");
+  EXPECT_EQ(errorOfOverride("collision.step_height", "-0.1"),
+            "--set collision.step_height=-0.1: collision.step_height: value -0.1 outside [0, 10]");
+  // Between 0 and eta_low, and from eta_high up: no step-aware cylinder.
+  EXPECT_EQ(errorOfOverride("collision.step_height", "0.1"),
+            "--set collision.step_height=0.1: collision.step_height: 0.1 is neither 0 (the paper's test) nor "
+            "within [collision.height_low, collision.height_high) = [0.18, 1.19)");
+  EXPECT_EQ(errorOfOverride("collision.step_height", "1.19"),
+            "--set collision.step_height=1.19: collision.step_height: 1.19 is neither 0 (the paper's test) nor "
+            "within [collision.height_low, collision.height_high) = [0.18, 1.19)");
+  EXPECT_EQ(errorOfOverride("collision.step_height", "0.36"), "");
+  EXPECT_EQ(errorOfOverride("collision.step_height", "0.18"), "");
 }
 
 TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
@@ -347,6 +359,7 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.policy.opening_weight, built_in.opening_weight);
   EXPECT_EQ(shipped.policy.goal_move, built_in.goal_move);
   EXPECT_EQ(shipped.policy.max_cell_rise, built_in.max_cell_rise);
+  EXPECT_EQ(shipped.collision.step_height, CollisionConfig().step_height);
 }
 
 TEST(Config, LearnedWorldSectionHasTheModelsContractAndRanges) {

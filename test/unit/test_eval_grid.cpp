@@ -56,6 +56,7 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_DOUBLE_EQ(whole_level.policy.opening_weight, 0.5);
   EXPECT_FALSE(whole_level.policy.goal_move);  // measured, not in the row (docs/whole_level.md)
   EXPECT_DOUBLE_EQ(whole_level.policy.max_cell_rise, 0.0);
+  EXPECT_DOUBLE_EQ(whole_level.collision.step_height, 0.0);
   EXPECT_TRUE(whole_level.collision.prefix_commits);  // our older additions stay
   const Config full = overridden("full");  // the whole-level options are off by default
   EXPECT_DOUBLE_EQ(full.policy.goal_weight, 0.0);
@@ -77,6 +78,8 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(paper_row.policy.max_cell_rise, paper_file.policy.max_cell_rise);
   EXPECT_EQ(paper_row.collision.previous_steps, paper_file.collision.previous_steps);
   EXPECT_EQ(paper_row.collision.prefix_commits, paper_file.collision.prefix_commits);
+  EXPECT_EQ(paper_row.collision.step_height, paper_file.collision.step_height);
+  EXPECT_DOUBLE_EQ(paper_file.collision.step_height, 0.0);
   EXPECT_FALSE(paper_file.collision.prefix_commits);
   EXPECT_EQ(paper_file.collision.previous_steps, 0);
   EXPECT_DOUBLE_EQ(paper_file.policy.goal_weight, 0.0);

@@ -119,6 +119,11 @@ struct CollisionConfig {
   double body_radius = 0.21;   // rho
   double height_low = 0.18;    // eta_low
   double height_high = 1.19;   // eta_high
+  // [ours] 0: the paper's eq. 6 (a body cylinder on the floor). > 0: the body climbs
+  // steps up to this height (normalised; Quake III's 18 units over the 50-unit eye =
+  // 0.36), riding on a support height followed along the samples (step_support.h); 0 or
+  // within [height_low, height_high).
+  double step_height = 0;
   double min_confidence = 4.0;
   int n_occ = 30;
   int n_occ_consecutive = 2;

@@ -19,6 +19,11 @@
 // confident points of the latest committed steps are counted too, with heights from
 // the branch's first floor; points already inside the body cylinder at the start are
 // left out, so standing beside a wall does not block every move.
+//
+// Step-aware eq. 6 ([ours], collision.step_height > 0, step_support.h): the keyframe
+// points take their heights from the branch's first floor too, not from their own
+// keyframe's: the support the body climbs is one height along the branch, and a
+// keyframe's floor fitted on a stair would move the datum from point to point.
 #include <memory>
 #include <string>
 #include <vector>

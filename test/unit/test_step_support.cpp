@@ -1,0 +1,171 @@
+// The step-aware body cylinder of eq. 6 (step_support.h) against the paper's, on
+// hand-built scenes: floor z = 0, camera 1 above it (kappa = 1, so h = z), the body
+// walking along +X; heights in eye heights (Quake III: a stair of 16 units over the
+// 50-unit eye is 0.32, the player's 18-unit step 0.36).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "valerant/explore/point_cloud_collision.h"
+#include "valerant/explore/step_support.h"
+
+using namespace valerant;
+
+namespace {
+
+FloorPlane floorUnder(double x) {
+  FloorPlane f;
+  f.q = {x, 0, 0};
+  f.n = {0, 0, 1};
+  f.c = {x, 0, 1};
+  f.reliable = true;
+  return f;
+}
+
+// Samples from x0 to x1 in n frames: sample i at x0 + (x1 - x0) (i + 1) / n.
+std::vector<FloorPlane> track(double x0, double x1, int n) {
+  std::vector<FloorPlane> samples;
+  for (int i = 1; i <= n; ++i) samples.push_back(floorUnder(x0 + (x1 - x0) * i / n));
+  return samples;
+}
+
+HeightedPoint at(double x, double y, double z) { return {{x, y, z}, z, 10}; }
+
+CollisionConfig stepped() {
+  CollisionConfig config;
+  config.step_height = 0.36;
+  return config;
+}
+
+// Five risers of 0.32 every 0.32 from x = 1 (16-unit treads every 16 units), then a
+// landing at 1.6 to x = 3.52: riser k at x = 1 + 0.32 k, z = 0.32 k + 0.04 m (m = 0..8);
+// its tread at z = 0.32 (k + 1) from 0.04 to 0.28 past it; y = 0.025 j, |y| <= 0.5.
+std::vector<HeightedPoint> staircase() {
+  std::vector<HeightedPoint> points;
+  for (int k = 0; k < 5; ++k) {
+    const double riser = 1 + 0.32 * k, tread = 0.32 * (k + 1);
+    for (int j = -20; j <= 20; ++j) {
+      const double y = 0.025 * j;
+      for (int m = 0; m <= 8; ++m) points.push_back(at(riser, y, 0.32 * k + 0.04 * m));
+      for (int n = 1; n <= (k < 4 ? 7 : 30); ++n) points.push_back(at(riser + 0.04 * n, y, tread));
+    }
+  }
+  return points;
+}
+
+// A face across x = 3 from the floor to `top`, and its top surface to x = 4; spacing 0.05.
+std::vector<HeightedPoint> ledge(double top) {
+  std::vector<HeightedPoint> points;
+  for (int j = -20; j <= 20; ++j) {
+    const double y = 0.05 * j;
+    for (int m = 0; 0.05 * m <= top + 1e-9; ++m) points.push_back(at(3, y, 0.05 * m));
+    for (int n = 1; n <= 20; ++n) points.push_back(at(3 + 0.05 * n, y, top));
+  }
+  return points;
+}
+
+// Wall points on x = 3, |y| <= 1, z in [0, 2], spaced 0.1 (test_collision.cpp's sparse wall).
+std::vector<HeightedPoint> sparseWall() {
+  std::vector<HeightedPoint> points;
+  for (int j = -10; j <= 10; ++j)
+    for (int m = 0; m <= 20; ++m) points.push_back(at(3, 0.1 * j, 0.1 * m));
+  return points;
+}
+
+}  // namespace
+
+TEST(StepSupport, TheSteppedBodyClimbsAStaircaseThePaperCannot) {
+  const auto samples = track(0, 3, 60);  // sample i at x = 0.05 (i + 1)
+  // The paper: the disc first reaches the first riser at sample 15 (x = 0.8, 0.2 from
+  // it: |y| <= 0.064, 5 columns x 4 rows at z 0.20..0.32 = 20); at sample 16 (x = 0.85:
+  // |y| <= 0.147, 11 columns x 4 = 44, plus 7 points of the first tread at x = 1.04,
+  // 0.19 away) 51; sample 17 is the second in a row at or above 30.
+  const auto paper = detectPointCloudCollision(staircase(), samples, CollisionConfig(), false);
+  EXPECT_TRUE(paper.collision);
+  EXPECT_EQ(paper.sample, 17);
+  EXPECT_EQ(paper.run_start, 16);
+  // Stepped: each riser enters the disc alone and reaches at most 0.32 over the tread
+  // before, so nothing is ever above the step and every count is 0. The support is 0
+  // until sample 14 (x = 0.75, nothing within 0.21), the first tread (0.32) from sample
+  // 15; at sample 29 (x = 1.5) the disc reaches the riser at 1.64 (0.96); at the end
+  // the landing (1.6).
+  const auto climb = detectPointCloudCollision(staircase(), samples, stepped(), false);
+  EXPECT_FALSE(climb.collision);
+  EXPECT_EQ(climb.occupied_max, 0);
+  const SteppedCounts s = steppedBodyCounts(staircase(), samples, stepped(), stepped().body_radius);
+  EXPECT_DOUBLE_EQ(s.support[14], 0.0);
+  EXPECT_NEAR(s.support[15], 0.32, 1e-12);
+  EXPECT_NEAR(s.support[29], 0.96, 1e-12);
+  EXPECT_NEAR(s.support.back(), 1.6, 1e-12);
+}
+
+TEST(StepSupport, AWallTallerThanAStepCountsAsInThePaper) {
+  // A face rising above the step enters the disc at all its heights at once: blocked
+  // from the first sample that reaches it, the support stays on the floor and the
+  // counts are the paper's (test_collision.cpp: 30 at sample 32, 50 at sample 33).
+  const auto samples = track(0, 5, 57);
+  const auto paper = detectPointCloudCollision(sparseWall(), samples, CollisionConfig(), false);
+  const auto wall = detectPointCloudCollision(sparseWall(), samples, stepped(), false);
+  EXPECT_TRUE(wall.collision);
+  EXPECT_EQ(wall.sample, 33);
+  EXPECT_EQ(wall.sample, paper.sample);
+  EXPECT_EQ(wall.occupied_max, 50);
+  const SteppedCounts s = steppedBodyCounts(sparseWall(), samples, stepped(), stepped().body_radius);
+  EXPECT_EQ(s.counts[32], 30);
+  EXPECT_EQ(s.counts[33], 50);
+  for (const double f : s.support) EXPECT_DOUBLE_EQ(f, 0.0);
+}
+
+TEST(StepSupport, ALedgeAboveAStepCollidesOneWithinAStepIsClimbed) {
+  const auto samples = track(0, 5, 57);  // sample i at x = 5 (i + 1) / 57
+  // A 0.5 ledge (25 units, over Quake's 18): its face rises above 0.36, so it is counted
+  // as the paper counts it. Sample 31 (x = 2.807, 0.193 from the face: |y| <= 0.083,
+  // 3 columns x 7 rows at z 0.20..0.50) = 21; sample 32 (x = 2.895: |y| <= 0.182,
+  // 7 columns x 7 = 49, plus 5 + 1 points of the top at x = 3.05 and 3.10) = 55;
+  // sample 33 fires.
+  const auto high = detectPointCloudCollision(ledge(0.5), samples, stepped(), false);
+  EXPECT_TRUE(high.collision);
+  EXPECT_EQ(high.sample, 33);
+  EXPECT_EQ(high.run_start, 32);
+  const SteppedCounts h = steppedBodyCounts(ledge(0.5), samples, stepped(), stepped().body_radius);
+  EXPECT_EQ(h.counts[31], 21);
+  EXPECT_EQ(h.counts[32], 55);
+  // A 0.3 ledge (15 units): the paper counts 9, 27 (7 columns x 3 rows + 6 of the top),
+  // 46 (9 columns x 3 + 7 + 7 + 5 of the top), ... and fires at sample 34; the stepped
+  // body steps onto it at sample 31, where the disc first reaches it, and never counts.
+  const auto paper = detectPointCloudCollision(ledge(0.3), samples, CollisionConfig(), false);
+  EXPECT_TRUE(paper.collision);
+  EXPECT_EQ(paper.sample, 34);
+  const auto low = detectPointCloudCollision(ledge(0.3), samples, stepped(), false);
+  EXPECT_FALSE(low.collision);
+  EXPECT_EQ(low.occupied_max, 0);
+  const SteppedCounts l = steppedBodyCounts(ledge(0.3), samples, stepped(), stepped().body_radius);
+  EXPECT_DOUBLE_EQ(l.support[30], 0.0);
+  EXPECT_NEAR(l.support[31], 0.3, 1e-12);
+}
+
+TEST(StepSupport, TheSupportFallsOffADropAndIgnoresWhatIsAboveTheBody) {
+  // A lower floor at -2 (a drop) from x = 1, and a ceiling at 1.5 over x 0..2: samples
+  // at x = 0.4, 0.8, ..., 2.0. At x = 0.4 the disc holds only the ceiling, over
+  // f + eta_high: nothing counts, the support stays 0; at x = 0.8 the lower floor's
+  // first row (x = 1, 0.2 away) is in the disc and the body falls to it.
+  std::vector<HeightedPoint> points;
+  for (int n = 0; n <= 40; ++n)
+    for (int j = -4; j <= 4; ++j) {
+      points.push_back(at(1 + 0.05 * n, 0.05 * j, -2));
+      points.push_back(at(0.05 * n, 0.05 * j, 1.5));
+    }
+  const SteppedCounts s = steppedBodyCounts(points, track(0, 2, 5), stepped(), stepped().body_radius);
+  EXPECT_EQ(s.counts, (std::vector<int>{0, 0, 0, 0, 0}));
+  EXPECT_DOUBLE_EQ(s.support[0], 0.0);
+  EXPECT_DOUBLE_EQ(s.support[1], -2.0);
+  EXPECT_DOUBLE_EQ(s.support.back(), -2.0);
+}
+
+TEST(StepSupport, ThePaperSettingKeepsThePapersCounts) {
+  // step_height 0: bodyCylinderCounts is eq. 6 itself (the staircase's first riser
+  // counts 20 at sample 15).
+  const auto counts = bodyCylinderCounts(staircase(), track(0, 3, 60), CollisionConfig(), 0.21);
+  EXPECT_EQ(counts[15], 20);
+  EXPECT_EQ(counts[16], 51);
+}
