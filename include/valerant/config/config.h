@@ -121,8 +121,8 @@ struct CollisionConfig {
   double height_high = 1.19;   // eta_high
   // [ours] 0: the paper's eq. 6 (a body cylinder on the floor). > 0: the body climbs
   // steps up to this height (normalised; Quake III's 18 units over the 50-unit eye =
-  // 0.36), riding on a support height followed along the samples (step_support.h); 0 or
-  // within [height_low, height_high).
+  // 0.36, 0.45 with room for a floor fitted a tread off), riding on a support height
+  // followed along the samples (step_support.h); 0 or within [height_low, height_high).
   double step_height = 0;
   double min_confidence = 4.0;
   int n_occ = 30;

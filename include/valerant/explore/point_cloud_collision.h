@@ -9,6 +9,8 @@
 // along the floor normal n_i of sample i; kappa_i = n_i.(c_i - q_i). h(p) uses the
 // floor of the point's own source keyframe (eq. 5). Rotation-only candidates are
 // exempt: they add no translational penetration.
+// [ours] collision.step_height > 0: count_i comes from the step-aware cylinder that
+// rides up the treads it steps onto (step_support.h); 0 is the paper's band above.
 #include <Eigen/Core>
 #include <vector>
 
@@ -30,7 +32,8 @@ struct PointCloudCollision {
   int run_start = -1;    // first sample of the run of occupied samples that fired
 };
 
-// count_i of every sample, with the body radius `radius` (normalised, rho for eq. 6).
+// count_i of every sample, with the body radius `radius` (normalised, rho for eq. 6);
+// stepped when config.step_height > 0.
 std::vector<int> bodyCylinderCounts(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& samples,
                                     const CollisionConfig& config, double radius);
 
