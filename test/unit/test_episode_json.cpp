@@ -1,0 +1,38 @@
+// A step's record as decisions.jsonl writes it: each candidate's ground-truth fields.
+#include <gtest/gtest.h>
+
+#include "valerant/explore/episode_json.h"
+
+using namespace valerant;
+
+TEST(EpisodeJson, CandidateTruthCountsInSolidFramesAndTheRise) {
+  // Floors under the true path 50, 66, 82, 66 (two 16-unit stairs up, one down), one
+  // frame in solid: rise 82 - 50 = 32, not the last floor's 16.
+  CandidateRecord climb;
+  climb.verdict.candidate = "uw";
+  for (const double z : {50.0, 66.0, 82.0, 66.0}) {
+    FrameTruth f;
+    f.floor_z = z;
+    f.in_solid = z == 82.0;
+    climb.truth.push_back(f);
+  }
+  // A drop: 50 then -94: no rise.
+  CandidateRecord drop;
+  drop.verdict.candidate = "jw";
+  for (const double z : {50.0, -94.0}) {
+    FrameTruth f;
+    f.floor_z = z;
+    drop.truth.push_back(f);
+  }
+  StepRecord record;
+  record.candidates = {climb, drop};
+  record.chosen = 0;
+  const nlohmann::json j = toJson(record);
+  EXPECT_EQ(j["verdicts"][0]["truth_in_solid_frames"], 1);
+  EXPECT_DOUBLE_EQ(j["verdicts"][0]["truth_rise_units"].get<double>(), 32.0);
+  EXPECT_DOUBLE_EQ(j["verdicts"][1]["truth_rise_units"].get<double>(), 0.0);
+  EXPECT_EQ(j["committed_in_solid_frames"], 1);
+  // Without ground truth (a learned world): neither field.
+  record.candidates[1].truth.clear();
+  EXPECT_FALSE(toJson(record)["verdicts"][1].contains("truth_rise_units"));
+}
