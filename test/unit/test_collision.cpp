@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "level_walk.h"
 #include "valerant/explore/depth_collision.h"
 #include "valerant/explore/point_cloud_collision.h"
 
@@ -11,21 +12,8 @@ using namespace valerant;
 
 namespace {
 
-FloorPlane floorUnder(double x) {
-  FloorPlane f;
-  f.q = {x, 0, 0};
-  f.n = {0, 0, 1};
-  f.c = {x, 0, 1};
-  f.reliable = true;
-  return f;
-}
-
-// Samples from x = x0 to x1 in `n` frames.
-std::vector<FloorPlane> track(double x0, double x1, int n) {
-  std::vector<FloorPlane> samples;
-  for (int i = 1; i <= n; ++i) samples.push_back(floorUnder(x0 + (x1 - x0) * i / n));
-  return samples;
-}
+using test::floorUnder;
+using test::track;
 
 // Wall points on x = 3, |y| <= 1, z in [0, 2], spaced `step`; h = z (camera height 1).
 std::vector<HeightedPoint> wall(double step, float confidence = 10) {

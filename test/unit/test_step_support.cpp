@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "level_walk.h"
 #include "valerant/explore/point_cloud_collision.h"
 #include "valerant/explore/step_support.h"
 
@@ -13,21 +14,8 @@ using namespace valerant;
 
 namespace {
 
-FloorPlane floorUnder(double x) {
-  FloorPlane f;
-  f.q = {x, 0, 0};
-  f.n = {0, 0, 1};
-  f.c = {x, 0, 1};
-  f.reliable = true;
-  return f;
-}
-
-// Samples from x0 to x1 in n frames: sample i at x0 + (x1 - x0) (i + 1) / n.
-std::vector<FloorPlane> track(double x0, double x1, int n) {
-  std::vector<FloorPlane> samples;
-  for (int i = 1; i <= n; ++i) samples.push_back(floorUnder(x0 + (x1 - x0) * i / n));
-  return samples;
-}
+using test::floorUnder;
+using test::track;
 
 HeightedPoint at(double x, double y, double z) { return {{x, y, z}, z, 10}; }
 
