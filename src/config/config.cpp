@@ -105,6 +105,13 @@ class Section {
     }
   }
 
+  // An error about `key` (its full dotted name), naming the override that set it, else
+  // the file: also for the checks across keys once every section is read.
+  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
+    const auto origin = origins_.find(key);
+    throw InputError(origin == origins_.end() ? source_ : origin->second, key + ": " + problem);
+  }
+
  private:
   // The value under `key`; a missing key is an error. Reads through a const node:
   // yaml-cpp's non-const operator[] would insert the key.
@@ -119,10 +126,6 @@ class Section {
   static std::string text(const YAML::Node& v) {
     if (v.IsScalar()) return v.Scalar();
     return v.IsSequence() ? "<sequence>" : "<mapping>";
-  }
-  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
-    const auto origin = origins_.find(key);
-    throw InputError(origin == origins_.end() ? source_ : origin->second, key + ": " + problem);
   }
 
   YAML::Node node_;
@@ -498,20 +501,18 @@ Config ConfigDocument::parse() const {
   // A step below eta_low would make the stepped cylinder block on points the paper's
   // ignores; one at eta_high would leave it nothing to count.
   if (const double s = c.collision.step_height; s != 0 && (s < c.collision.height_low || s >= c.collision.height_high)) {
-    const std::string key = "collision.step_height";
-    std::ostringstream message;
-    message << key << ": " << s << " is neither 0 (the paper's test) nor within [collision.height_low, "
-            << "collision.height_high) = [" << c.collision.height_low << ", " << c.collision.height_high << ")";
-    throw InputError(origins_.count(key) ? origins_.at(key) : source, message.str());
+    std::ostringstream problem;
+    problem << s << " is neither 0 (the paper's test) nor within [collision.height_low, collision.height_high) = ["
+            << c.collision.height_low << ", " << c.collision.height_high << ")";
+    top.fail("collision.step_height", problem.str());
   }
   // Short translations and turns are prefixes of uw / jq: shorter than their horizon.
   for (const auto& [key, frames] : {std::pair{"policy.short_translation_frames", &c.policy.short_translation_frames},
                                     std::pair{"policy.short_turn_frames", &c.policy.short_turn_frames}})
     for (const int f : *frames)
       if (f >= c.rollout.horizon_frames)
-        throw InputError(origins_.count(key) ? origins_.at(key) : source, std::string(key) + ": " + std::to_string(f) +
-                                     " frames is not shorter than rollout.horizon_frames (" +
-                                     std::to_string(c.rollout.horizon_frames) + ")");
+        top.fail(key, std::to_string(f) + " frames is not shorter than rollout.horizon_frames (" +
+                          std::to_string(c.rollout.horizon_frames) + ")");
   const VisualSlamConfig& v = c.slam.visual;
   requireAtMost(source, "slam.visual.tracker.redetect_below", v.tracker.redetect_below, "slam.visual.tracker.max_features",
                 v.tracker.max_features);
