@@ -31,7 +31,7 @@ from torch import nn
 import torch.nn.functional as F
 
 from .depth_net import AppendCoordinates, ConvBN
-from .world_warp import EXTRA_INPUT_CHANNELS, AnchorState, anchor_step, rotation_sampling, sample
+from .world_warp import EXTRA_INPUT_CHANNELS, AnchorState, anchor_step, pixel_grid, rotation_sampling, sample
 
 INPUT_NAME = "frames_and_motion"
 OUTPUT_NAME = "warp_and_fill"
@@ -134,14 +134,9 @@ def apply_warp(last, warp_and_fill):
     and the net's output: bilinear sampling at (x+dx, y+dy) with the border
     replicated, blended with the fill by the mask, clamped to [0,1]. The same
     arithmetic as the C++ backend's cv::remap(INTER_LINEAR, BORDER_REPLICATE)."""
-    n, _, h, w = last.shape
+    _, _, h, w = last.shape
     flow, mask, fill = warp_and_fill[:, 0:2], warp_and_fill[:, 2:3], warp_and_fill[:, 3:6]
-    ys, xs = torch.meshgrid(torch.arange(h, device=last.device, dtype=last.dtype),
-                            torch.arange(w, device=last.device, dtype=last.dtype), indexing="ij")
-    gx = (xs + flow[:, 0]) * (2.0 / (w - 1)) - 1.0
-    gy = (ys + flow[:, 1]) * (2.0 / (h - 1)) - 1.0
-    warped = F.grid_sample(last, torch.stack([gx, gy], -1), mode="bilinear", padding_mode="border",
-                           align_corners=True)
+    warped = sample(last, pixel_grid(h, w, last.device, last.dtype)[None] + flow)
     return (mask * warped + (1.0 - mask) * fill).clamp(0.0, 1.0)
 
 

@@ -118,8 +118,8 @@ cv::Mat WorldModelNet::next(const std::vector<cv::Mat>& context, const MotionSte
                                   "x" + std::to_string(height()) + " CV_8UC3 RGB frame");
 
   cv::Mat blob(std::vector<int>{1, inputChannels(), height(), width()}, CV_32F);
+  cv::Mat unit;  // after the loop: the newest frame in [0,1], which the rotation warp samples
   for (int k = 0; k < context_frames_; ++k) {
-    cv::Mat unit;
     context[k].convertTo(unit, CV_32FC3, 1.0 / 255.0);
     std::vector<cv::Mat> rgb;
     cv::split(unit, rgb);
@@ -134,10 +134,8 @@ cv::Mat WorldModelNet::next(const std::vector<cv::Mat>& context, const MotionSte
       throw InputError(path_, "the rotation_anchor warp's state is not that of a " + std::to_string(width()) + "x" +
                                   std::to_string(height()) + " rollout (not started with AnchorState::start?)");
     rotation = rotationSampling(motion, camera_);
-    cv::Mat newest;
-    context.back().convertTo(newest, CV_32FC3, 1.0 / 255.0);
     std::vector<cv::Mat> turned;
-    cv::split(sampleBilinear(newest, rotation.positions, false), turned);
+    cv::split(sampleBilinear(unit, rotation.positions, false), turned);
     const int first = 3 * context_frames_ + kMotionChannels;
     for (int c = 0; c < 3; ++c) turned[c].copyTo(plane(blob, first + c));
     rotation.in_view.copyTo(plane(blob, first + 3));
