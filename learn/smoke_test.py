@@ -23,7 +23,7 @@ import torch
 
 import error_by_depth
 import train_depth
-from valerant_learn.depth_net import ColumnContext, DepthNet, GlobalContext, count_parameters
+from valerant_learn.depth_net import ColumnContext, DepthNet, GlobalContext, count_parameters, scaled_channels
 from valerant_learn.floor_prior import floor_log_depth
 from valerant_learn.junit import run_smoke_test
 from valerant_learn.log16 import decode_log16, encode_log16
@@ -265,6 +265,27 @@ class ColumnContextTest(unittest.TestCase):
         self.assertEqual(tuple(context(features).shape), (1, 8, 3, 4))
 
 
+class WidthMultiplierTest(unittest.TestCase):
+    def test_hand_worked_widths(self):
+        # 16 x 1.25 = 20 = 2.5 eights -> 3 eights (halves round up); 24 x 1.25 = 30 -> 3.75 -> 4 eights;
+        # 160 x 1.25 = 200 exactly; 16 x 0.25 = 4 -> 0.5 -> 1 eight; 8 x 0.1 -> never below 8
+        self.assertEqual([scaled_channels(c, 1.25) for c in (16, 24, 160)], [24, 32, 200])
+        self.assertEqual([scaled_channels(16, 0.25), scaled_channels(8, 0.1), scaled_channels(96, 1.0)], [8, 8, 96])
+
+    def test_widened_net_runs_and_grows(self):
+        net = DepthNet(HEIGHT, WIDTH, column_context=True, width_multiplier=1.25).eval()
+        with torch.no_grad():
+            output = net(torch.rand(2, 3, HEIGHT, WIDTH))
+        self.assertEqual(tuple(output.shape), (2, 2, HEIGHT, WIDTH))
+        self.assertEqual(net.stem[0].out_channels, 24)
+        self.assertGreater(count_parameters(net), count_parameters(DepthNet(HEIGHT, WIDTH, column_context=True)))
+
+    def test_bad_multiplier(self):
+        for multiplier in (0.0, -1.0, float("nan")):
+            with self.assertRaisesRegex(ValueError, "positive width multiplier"):
+                DepthNet(HEIGHT, WIDTH, width_multiplier=multiplier)
+
+
 class ErrorByDepthTest(unittest.TestCase):
     def test_hand_worked_groups(self):
         # floor plane at 2 m under every pixel but the last (at the horizon: 80 m, no floor)
@@ -446,9 +467,12 @@ class TrainDepthTest(unittest.TestCase):
 
     def test_end_to_end_column_context(self):
         metrics = self.train_and_check("run_v7", ["--loss", "decoupled", "--column-context", "--ema", "0.9",
-                                                  "--select-maps", SELECT_MAP], [SELECT_SHARD])
+                                                  "--select-maps", SELECT_MAP, "--width-multiplier", "1.25"],
+                                       [SELECT_SHARD])
         self.assertEqual((metrics["column_context"], metrics["global_context"]), (True, False))
-        self.assertEqual(metrics["parameters"], count_parameters(DepthNet(HEIGHT, WIDTH, column_context=True)))
+        self.assertEqual(metrics["width_multiplier"], 1.25)
+        self.assertEqual(metrics["parameters"],
+                         count_parameters(DepthNet(HEIGHT, WIDTH, column_context=True, width_multiplier=1.25)))
 
     def test_end_to_end_keep_last(self):
         # The end's averaged weights are kept though the selection's best may lie earlier.
@@ -493,7 +517,7 @@ class TrainDepthTest(unittest.TestCase):
         properties = {entry.key: entry.value for entry in exported.metadata_props}
         self.assertEqual((properties["keep"], properties["kept_step"]), (metrics["keep"], str(metrics["kept_step"])))
         model = DepthNet(checkpoint["height"], checkpoint["width"], checkpoint["floor_prior"],
-                         checkpoint["global_context"], checkpoint["column_context"])
+                         checkpoint["global_context"], checkpoint["column_context"], checkpoint["width_multiplier"])
         model.load_state_dict(checkpoint["state_dict"])
         rgb = train_depth.as_input(torch.from_numpy(load_shards([VAL_SHARD])["rgb"][:3])).contiguous().numpy()
         report = verify_with_opencv(os.path.join(out, "depth_prior.onnx"), model, rgb)

@@ -74,6 +74,10 @@ def parse_args(argv):
     parser.add_argument("--column-context", action="store_true",
                         help="add a summary of each image column to the stride-8 decoder features "
                              "(valerant_learn/depth_net.py, ColumnContext)")
+    parser.add_argument("--width-multiplier", type=float, default=1.0, metavar="M",
+                        help="every encoder and decoder width times M, rounded to a multiple of 8 "
+                             "(valerant_learn/depth_net.py, scaled_channels); the time a frame grows about "
+                             "as M squared")
     parser.add_argument("--ema", type=float, metavar="DECAY",
                         help="validate and keep an exponential moving average of the weights "
                              "(valerant_learn/weight_average.py), e.g. 0.999")
@@ -200,7 +204,8 @@ def save_checkpoint(model, state, step, keep, path):
                 "height": model.height, "width": model.width, "step": step, "keep": keep,
                 "floor_prior": floor_prior_camera(model),
                 "global_context": model.global_context is not None,
-                "column_context": model.column_context is not None}, path)
+                "column_context": model.column_context is not None,
+                "width_multiplier": model.width_multiplier}, path)
 
 
 def train(model, train_frames, val_frames, select_frames, args, device, out_dir):
@@ -321,7 +326,7 @@ def main(argv=None):
         train_data, val_data, select_data = load_split(args)
         meta = train_data["meta"]
         model = DepthNet(meta["height"], meta["width"], meta if args.floor_prior else None, args.global_context,
-                         args.column_context)
+                         args.column_context, args.width_multiplier)
     except ValueError as error:
         sys.exit("train_depth: error: %s" % error)
     os.makedirs(args.out, exist_ok=True)
@@ -359,6 +364,7 @@ def main(argv=None):
         "eye_height_m": meta["eye_height_m"], "floor_prior": "yes" if args.floor_prior else "no",
         "global_context": "yes" if args.global_context else "no",
         "column_context": "yes" if args.column_context else "no", "loss": args.loss,
+        "width_multiplier": args.width_multiplier,
         "keep": args.keep, "kept_step": kept_step,
         "train_maps": ",".join(meta["maps"]), "val_abs_rel": val_summary["all"]["abs_rel"]})
     print("exported %s; cv2.dnn vs torch max |diff| ln depth %.2e, ln b %.2e"
@@ -374,6 +380,7 @@ def main(argv=None):
         "loss": args.loss,
         "global_context": args.global_context,
         "column_context": args.column_context,
+        "width_multiplier": args.width_multiplier,
         "ema": args.ema,
         "sky_depth_m": SKY_DEPTH_M,
         "metric_depth_range_m": [METRIC_MIN_M, METRIC_MAX_M],

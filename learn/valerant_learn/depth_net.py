@@ -52,6 +52,9 @@ GLOBAL_CONTEXT_CHANNELS = 256
 # (stage 1 outputs stride 8: 16 columns of 8 pixels at 128 x 96).
 COLUMN_CONTEXT_CHANNELS = 64
 COLUMN_CONTEXT_STAGE = 1
+# Channel counts are multiples of this after a width multiplier (the usual MobileNet
+# rounding, which keeps the convolutions' vector loops full).
+CHANNEL_DIVISOR = 8
 
 
 class ConvBN(nn.Sequential):
@@ -67,6 +70,13 @@ class ConvBN(nn.Sequential):
     def fold(self):
         self[0] = fuse_conv_bn_eval(self[0], self[1])
         self[1] = nn.Identity()
+
+
+def scaled_channels(channels, multiplier):
+    """channels x multiplier, rounded to the nearest multiple of CHANNEL_DIVISOR and
+    never below one of them: the stage widths of a net widened or narrowed by
+    `multiplier` (1 leaves every listed width as it is, all being multiples of 8)."""
+    return max(CHANNEL_DIVISOR, int(channels * multiplier / CHANNEL_DIVISOR + 0.5) * CHANNEL_DIVISOR)
 
 
 def coordinate_channels(height, width):
@@ -198,33 +208,44 @@ class DepthNet(nn.Module):
     """floor_prior: None (the depth head predicts ln depth itself) or the camera
     (fy, cy, eye_height_m) whose floor-plane depth the head predicts ln depth
     relative to. global_context: a GlobalContext after the encoder. column_context:
-    a ColumnContext after decoder stage COLUMN_CONTEXT_STAGE."""
+    a ColumnContext after decoder stage COLUMN_CONTEXT_STAGE. width_multiplier:
+    every encoder and decoder width times this (scaled_channels); the contexts'
+    summaries keep theirs."""
 
-    def __init__(self, height=96, width=128, floor_prior=None, global_context=False, column_context=False):
+    def __init__(self, height=96, width=128, floor_prior=None, global_context=False, column_context=False,
+                 width_multiplier=1.0):
         super().__init__()
         if height % 32 or width % 32:
             raise ValueError("DepthNet needs a size divisible by 32, got %dx%d" % (width, height))
+        if not width_multiplier > 0:
+            raise ValueError("DepthNet needs a positive width multiplier, got %r" % (width_multiplier,))
         self.height, self.width = height, width
+        self.width_multiplier = float(width_multiplier)
+
+        def widen(channels):
+            return scaled_channels(channels, self.width_multiplier)
+
+        decoder_channels = [widen(channels) for channels in DECODER_CHANNELS]
         self.floor_prior = None if floor_prior is None else AddFloorPrior(height, width, floor_prior)
         self.coordinates = AppendCoordinates(height, width)
-        self.stem = ConvBN(5, STEM_CHANNELS, 3, 2)
+        self.stem = ConvBN(5, widen(STEM_CHANNELS), 3, 2)
         self.stages = nn.ModuleList()
-        channels, skips = STEM_CHANNELS, []
+        channels, skips = widen(STEM_CHANNELS), []
         for stage in ENCODER_STAGES:
             blocks = []
             for cout, stride, expansion in stage:
-                blocks.append(InvertedResidual(channels, cout, stride, expansion))
-                channels = cout
+                blocks.append(InvertedResidual(channels, widen(cout), stride, expansion))
+                channels = widen(cout)
             self.stages.append(nn.Sequential(*blocks))
             skips.append(channels)
         self.global_context = GlobalContext(channels, height // 32, width // 32) if global_context else None
         # Skips at strides 16, 8, 4, 2, then none at full resolution.
         self.decoder = nn.ModuleList()
-        for cout, skip in zip(DECODER_CHANNELS, skips[-2::-1] + [0]):
+        for cout, skip in zip(decoder_channels, skips[-2::-1] + [0]):
             self.decoder.append(DecoderStage(channels, skip, cout))
             channels = cout
         column_stride = 16 // 2 ** COLUMN_CONTEXT_STAGE
-        self.column_context = (ColumnContext(DECODER_CHANNELS[COLUMN_CONTEXT_STAGE], height // column_stride)
+        self.column_context = (ColumnContext(decoder_channels[COLUMN_CONTEXT_STAGE], height // column_stride)
                                if column_context else None)
         self.depth_head = nn.Conv2d(channels, 1, 1)
         self.scale_head = nn.Conv2d(channels, 1, 1)
