@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
 # Renders the depth prior's data set (models/depth_prior.md) into data/ (git-ignored):
-# the training maps in two halves (odd and even lines of the sorted list), each small
-# enough to travel to the GPU host in parts, once as the maps look and once with their
-# textures randomised (the same maps, other places and views), and the evaluation maps'
-# shard.
-#   learn/make_depth_data.sh            (about 2 minutes a half on 2 cores)
+# the training maps in two halves (odd and even lines of the sorted list), four times
+# (other places and views each time): once as the maps look (seed 1) and three times
+# with their textures randomised (seed 4 at p 0.9, seeds 5 and 6 at p 1.0); and the
+# evaluation maps' shard (seed 2). Then it packs them into data/depth_parts/pNN, one
+# folder per call to the GPU host (learn/pack_parts.py; 30 MiB leaves room for the
+# working tree in a call's 64 MiB).
+#   learn/make_depth_data.sh            (about 2 minutes a rendering on 2 cores)
+# Then, on the GPU host, one call per folder, back to back:
+#   DATA=data/depth_parts/pNN learn/gpu_train.sh stage
+# and with the last folder `start NAME MINUTES` instead of `stage` (options: models/depth_prior.md).
 set -euo pipefail
 source "$(dirname "$0")/../scripts/env.sh"
 tool="$VALERANT_BUILD/devel/lib/valerant/valerant_dataset"
@@ -12,10 +17,19 @@ cd "$VALERANT_ROOT"
 maps=$("$tool" --list-maps --split train)
 a=$(echo "$maps" | awk 'NR % 2 == 1' | paste -sd,)
 b=$(echo "$maps" | awk 'NR % 2 == 0' | paste -sd,)
-"$tool" --out data/train_a --maps "$a" --seed 1 > data/train_a.json &
-"$tool" --out data/train_b --maps "$b" --seed 1 > data/train_b.json &
-wait
-"$tool" --out data/train_rand_a --maps "$a" --seed 4 --texture-shuffle 0.9 > data/train_rand_a.json &
-"$tool" --out data/train_rand_b --maps "$b" --seed 4 --texture-shuffle 0.9 > data/train_rand_b.json &
-wait
+render() {  # render NAME SEED [OPTION...]: both halves side by side
+  local name=$1 seed=$2
+  shift 2
+  "$tool" --out "data/${name}_a" --maps "$a" --seed "$seed" "$@" > "data/${name}_a.json" &
+  local first=$!
+  "$tool" --out "data/${name}_b" --maps "$b" --seed "$seed" "$@" > "data/${name}_b.json" &
+  wait $first
+  wait $!
+}
+render train 1
+render train_rand 4 --texture-shuffle 0.9
+render train_rand5 5 --texture-shuffle 1.0
+render train_rand6 6 --texture-shuffle 1.0
 "$tool" --out data/eval --split evaluation --seed 2 > data/eval.json
+/usr/bin/python3 learn/pack_parts.py --limit-mib 30 --out data/depth_parts \
+  data/train_{,rand_,rand5_,rand6_}{a,b} data/eval

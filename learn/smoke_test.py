@@ -6,6 +6,7 @@ train_depth.py on two tiny synthetic shards of different maps, whose ONNX output
 must load in cv2.dnn and match torch.
 
   smoke_test.py [--xml PATH]   # PATH: JUnit XML for scripts/count_test_results"""
+import glob
 import json
 import math
 import os
@@ -22,6 +23,7 @@ import onnx
 import torch
 
 import error_by_depth
+import pack_parts
 import train_depth
 from valerant_learn.depth_net import ColumnContext, DepthNet, GlobalContext, count_parameters, scaled_channels
 from valerant_learn.floor_prior import floor_log_depth
@@ -284,6 +286,43 @@ class WidthMultiplierTest(unittest.TestCase):
         for multiplier in (0.0, -1.0, float("nan")):
             with self.assertRaisesRegex(ValueError, "positive width multiplier"):
                 DepthNet(HEIGHT, WIDTH, width_multiplier=multiplier)
+
+
+class PackPartsTest(unittest.TestCase):
+    def test_hand_worked_first_fit_decreasing(self):
+        # largest first into the first bin with room, limit 10: 7 -> A; 5 -> B; 4 -> B (9);
+        # 3 -> A (10); 2 fits neither (12, 11) -> C
+        self.assertEqual(pack_parts.first_fit_decreasing([5, 7, 3, 2, 4], 10), [[1, 2], [0, 4], [3]])
+        with self.assertRaisesRegex(ValueError, "exceeds the limit"):
+            pack_parts.first_fit_decreasing([11], 10)
+
+    def test_parts_hold_every_frame_once_under_the_limit(self):
+        root = os.path.join(WORK, "pack")
+        for name, shard in (("train_x", TRAIN_SHARD), ("eval", VAL_SHARD)):
+            os.makedirs(os.path.join(root, name), exist_ok=True)
+            shutil.copy(shard, os.path.join(root, name))
+        # A third of the limit is 0.4 of the training shard: it is cut into 3 pieces.
+        limit_mib = 1.2 * os.path.getsize(TRAIN_SHARD) / 2 ** 20
+        out = os.path.join(root, "parts")
+        self.assertEqual(pack_parts.main([os.path.join(root, "train_x"), os.path.join(root, "eval"),
+                                          "--limit-mib", repr(limit_mib), "--out", out]), 0)
+        parts = sorted(glob.glob(os.path.join(out, "p[0-9][0-9]")))
+        self.assertGreaterEqual(len(parts), 2)
+        for part in parts:
+            size = sum(os.path.getsize(f) for f in glob.glob(os.path.join(part, "*", "*.zip")))
+            self.assertLessEqual(size, limit_mib * 2 ** 20)
+        train = sorted(glob.glob(os.path.join(out, "p[0-9][0-9]", "train_x", "*.zip")))
+        self.assertEqual(len(train), 3)
+        frames = load_shards(train)
+        self.assertEqual(sorted(zip(frames["sequence"], frames["step"])),
+                         sorted(zip(load_shards([TRAIN_SHARD])["sequence"], load_shards([TRAIN_SHARD])["step"])))
+        self.assertEqual(len(load_shards(glob.glob(os.path.join(out, "p[0-9][0-9]", "eval", "*.zip")))["kind"]), 8)
+
+    def test_bad_folders(self):
+        with self.assertRaisesRegex(SystemExit, "train_\\* or eval"):
+            pack_parts.main([WORK, "--limit-mib", "1", "--out", os.path.join(WORK, "bad")])
+        with self.assertRaisesRegex(SystemExit, "is not a folder"):
+            pack_parts.main([os.path.join(WORK, "train_missing"), "--limit-mib", "1", "--out", os.path.join(WORK, "bad")])
 
 
 class ErrorByDepthTest(unittest.TestCase):
