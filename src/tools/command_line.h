@@ -62,7 +62,8 @@ CLI::Option* addPath(CLI::App& app, const std::string& flag, Value& value, const
                      const std::string& type) {
   const std::string kind = type == "DIR" ? "folder" : "file";
   const CLI::Validator names_a_path(
-      [kind](std::string& text) { return text.empty() ? "an empty value names no " + kind : std::string(); }, "");
+      [kind](std::string& text) { return text.empty() ? "an empty value names no " + kind : std::string(); },
+      "");
   return app.add_option(flag, value, meaning)->type_name(type)->check(names_a_path);
 }
 

@@ -106,8 +106,8 @@ int main(int argc, char** argv) {
       app.add_option("--maps", maps_text, "maps, comma-separated (default: the split's maps)")->type_name("LIST");
   const CLI::Option* exclude_flag =
       app.add_option("--exclude", exclude_text, "maps to leave out, comma-separated")->type_name("LIST");
-  const tools::PackageFileFlag map_sets_file(app, "--map-sets", "the held-out map sets", dataset::defaultMapSetsPath,
-                                             "config/map_sets.yaml");
+  const tools::PackageFileFlag map_sets_file(app, "--map-sets", "the held-out map sets",
+                                             dataset::defaultMapSetsPath, "config/map_sets.yaml");
   tools::addInteger<int64_t>(app, "--seed", seed_flag, "random seed of the sequences (and the texture shuffle)", 0);
   tools::addInteger(app, "--spawns", params.spawns, "spawns whose candidate rollouts are rendered, per map", 0);
   tools::addInteger(app, "--rotations", params.rotations, "turns in place from random reachable cells, per map", 0);
@@ -143,7 +143,8 @@ int main(int argc, char** argv) {
     if (out.empty()) throw tools::UsageError("--out", "is required");
     // Zero sequences of every kind would write no shard and still report success.
     if (params.spawns == 0 && params.rotations == 0 && params.walks == 0)
-      throw tools::UsageError("--spawns 0 --rotations 0 --walks 0", "render nothing: give one of them a count");
+      throw tools::UsageError("--spawns 0 --rotations 0 --walks 0",
+                              "render nothing: give one of them a count");
     fs::create_directories(out);
 
     // The pool is every training map's, whichever maps this run renders, so runs over

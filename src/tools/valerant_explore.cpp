@@ -92,7 +92,8 @@ int main(int argc, char** argv) {
   tool_config.switchFlag("--no-dp", "dead_pocket.enabled=false", "ablation: no dead-pocket rewind");
   std::string image;
   tools::addPath(app, "--image", image,
-                 "start the learned world from this screenshot (PNG, JPEG; needs world.backend learned)", "FILE");
+                 "start the learned world from this screenshot (PNG, JPEG; needs world.backend learned)",
+                 "FILE");
   std::string out;
   tools::addPath(app, "--out", out, "run folder", "DIR")->required();
   CLI::Option* force = app.add_flag("--force", "replace the run the folder holds");

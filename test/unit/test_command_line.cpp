@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -90,7 +90,9 @@ class ScopedEnvironment {
 
 // A shell without the workspace sourced: nothing says where the package is.
 ScopedEnvironment withoutThePackage() {
-  return {{"ROS_PACKAGE_PATH", std::nullopt}, {"VALERANT_SHARE_DIR", std::nullopt}, {"VALERANT_CONFIG", std::nullopt}};
+  return {{"ROS_PACKAGE_PATH", std::nullopt},
+          {"VALERANT_SHARE_DIR", std::nullopt},
+          {"VALERANT_CONFIG", std::nullopt}};
 }
 
 const std::string kShipped = std::string(VALERANT_SOURCE_DIR) + "/config/valerant.yaml";
@@ -260,7 +262,8 @@ TEST(PackageFileFlag, WithoutThePackageHelpWorksAndARunNamesTheFlagAndTheEnviron
   const valerant::tools::ToolConfig help_config(help_app);
   Outcome o = runOn(help_app, {"--help"});
   EXPECT_EQ(o.status, 0);
-  EXPECT_NE(o.out.find("--config FILE=the package's config/valerant.yaml (package not found)"), std::string::npos)
+  EXPECT_NE(o.out.find("--config FILE=the package's config/valerant.yaml (package not found)"),
+            std::string::npos)
       << o.out;
   // A run that reads the default fails as the environment's fault (exit 1), not the
   // command line's, and says what to do.
@@ -289,8 +292,8 @@ TEST(PackageFileFlag, HelpShowsTheDefaultsPathWhenThePackageIsFound) {
   const ScopedEnvironment environment = {{"VALERANT_SHARE_DIR", share}, {"VALERANT_CONFIG", std::nullopt}};
   CLI::App app{"a test tool", "valerant_test_tool"};
   const valerant::tools::PackageFileFlag sets(
-      app, "--map-sets", "the held-out map sets", [] { return valerant::packageFilePath("config/map_sets.yaml"); },
-      "config/map_sets.yaml");
+      app, "--map-sets", "the held-out map sets",
+      [] { return valerant::packageFilePath("config/map_sets.yaml"); }, "config/map_sets.yaml");
   const Outcome o = runOn(app, {"--help"});
   EXPECT_EQ(o.status, 0);
   EXPECT_NE(o.out.find("--map-sets FILE=" + share + "/config/map_sets.yaml"), std::string::npos) << o.out;

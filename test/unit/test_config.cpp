@@ -305,7 +305,8 @@ TEST(Config, MissingFileAndBadYamlAreNamed) {
 
 TEST(Config, AKeyWithoutAValueIsNamedAsEmpty) {
   // YAML reads "key:" and --set key= as null, which the message once called a mapping.
-  EXPECT_EQ(errorOf("policy:\n  budget_steps:\n"), "test.yaml: policy.budget_steps: expected a number, got ''");
+  EXPECT_EQ(errorOf("policy:\n  budget_steps:\n"),
+            "test.yaml: policy.budget_steps: expected a number, got ''");
   ConfigDocument d = ConfigDocument::load(kShipped);
   d.setAssignment("floor.enabled=", "--set floor.enabled=");
   try {

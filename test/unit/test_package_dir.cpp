@@ -132,8 +132,8 @@ TEST(PackageDir, AFilePathWithoutThePackageNamesTheFileAndTheSearch) {
     ADD_FAILURE() << "no package, no path";
   } catch (const InputError& e) {
     EXPECT_EQ(e.input(), "the package's models/depth_prior.onnx");
-    EXPECT_EQ(std::string(e.what()), "the package's models/depth_prior.onnx: VALERANT_SHARE_DIR=" + empty.string() +
-                                         ": holds no package.xml naming valerant");
+    EXPECT_EQ(std::string(e.what()), "the package's models/depth_prior.onnx: VALERANT_SHARE_DIR=" +
+                                         empty.string() + ": holds no package.xml naming valerant");
   }
   EXPECT_EQ(packageFilePath("/abs/model.onnx"), "/abs/model.onnx");  // an absolute path needs no package
   if (saved)
