@@ -125,6 +125,7 @@ class Section {
   std::string name(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
   static std::string text(const YAML::Node& v) {
     if (v.IsScalar()) return v.Scalar();
+    if (v.IsNull()) return "";  // "key:" with no value in a file, or --set key=
     return v.IsSequence() ? "<sequence>" : "<mapping>";
   }
 
@@ -359,6 +360,9 @@ YAML::Node loadYaml(const std::string& text, const std::string& source) {
 }
 
 std::string readText(const std::string& path) {
+  // A folder opens as an empty stream: it would read as an empty file.
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw InputError(path, "is a folder, not a config file");
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot read config file");
   std::stringstream text;

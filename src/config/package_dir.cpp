@@ -85,7 +85,11 @@ std::string packageShareDir() {
 
 std::string packageFilePath(const std::string& path) {
   if (fs::path(path).is_absolute()) return path;
-  return (fs::path(packageShareDir()) / path).string();
+  try {
+    return (fs::path(packageShareDir()) / path).string();
+  } catch (const InputError& e) {
+    throw InputError("the package's " + path, e.what());  // which file needed the package
+  }
 }
 
 }  // namespace valerant

@@ -54,6 +54,19 @@ CLI::Option* addInteger(CLI::App& app, const std::string& flag, Integer& value, 
   return app.add_option(flag, value, meaning)->capture_default_str()->check(integerFrom(min, max));
 }
 
+// A flag whose value is a file or a folder (`type` FILE or DIR). An empty value names
+// neither: it is an error naming the flag, where "" + "/runs" once put valerant_eval's
+// grid in the root folder.
+template <class Value>
+CLI::Option* addPath(CLI::App& app, const std::string& flag, Value& value, const std::string& meaning,
+                     const std::string& type) {
+  const std::string kind = type == "DIR" ? "folder" : "file";
+  const CLI::Validator names_a_path(
+      [kind](std::string& text) { return text.empty() ? "an empty value names no " + kind : std::string(); },
+      "");
+  return app.add_option(flag, value, meaning)->type_name(type)->check(names_a_path);
+}
+
 // Runs `check` of flag values (an action string, a map list): the InputError it throws
 // is the command line's fault, exit status 2.
 template <class Check>
@@ -108,6 +121,12 @@ inline void refuseExtras(const CLI::App& app) {
     if (!extras.empty()) {
       const std::string& word = extras.front();
       if (word.rfind("-", 0) == 0) throw UsageError(word, "unknown flag");
+      if (sub->get_subcommands().empty()) {  // none given where one is wanted: a mistyped one
+        const auto known = sub->get_subcommands([](const CLI::App*) { return true; });
+        std::string names;
+        for (const CLI::App* k : known) names += (names.empty() ? "" : ", ") + k->get_name();
+        if (!known.empty()) throw UsageError("'" + word + "'", "unknown subcommand (one of: " + names + ")");
+      }
       throw UsageError("'" + word + "'", "unexpected argument (every value follows its flag)");
     }
     if (sub->get_subcommands().empty()) return;

@@ -1,15 +1,17 @@
 #pragma once
 // A tool's configuration, through the one strict loader: --config FILE (default: the
-// package's file), then the tool's flags that stand for configuration keys, then every
-// --set key=value in command-line order. A bad value is an error naming the flag that
-// gave it, with the same range checks as the file; as the command line's fault, it
-// exits 2 (command_line.h), where an error in the file itself exits 1.
+// package's file, looked up only when a run reads it: package_file_flag.h), then the
+// tool's flags that stand for configuration keys, then every --set key=value in
+// command-line order. A bad value is an error naming the flag that gave it, with the
+// same range checks as the file; as the command line's fault, it exits 2
+// (command_line.h), where an error in the file itself exits 1.
 #include <deque>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "command_line.h"
+#include "package_file_flag.h"
 #include "valerant/config/config.h"
 
 namespace valerant::tools {
@@ -27,11 +29,10 @@ inline void requireEngineWorld(const Config& config, const std::string& tool) {
 class ToolConfig {
  public:
   // Adds --config and --set to `app`.
-  explicit ToolConfig(CLI::App& app) : app_(app) {
-    config_option_ = app.add_option("--config", config_file_,
-                                    "configuration file; a flag that 'sets KEY' defaults to the file's KEY")
-                         ->type_name("FILE")
-                         ->capture_default_str();
+  explicit ToolConfig(CLI::App& app)
+      : app_(app),
+        config_file_(app, "--config", "configuration file; a flag that 'sets KEY' defaults to the file's KEY",
+                     defaultConfigPath, "config/valerant.yaml") {
     set_option_ =
         app.add_option("--set", sets_, "override a configuration key, e.g. policy.budget_steps=30 (repeatable)")
             ->type_name("KEY=VALUE")
@@ -60,7 +61,8 @@ class ToolConfig {
 
   // The configuration as the command line makes it, checked whole; see the header.
   ConfigDocument document() const {
-    ConfigDocument doc = ConfigDocument::load(config_file_);
+    const std::string file = config_file_.path();
+    ConfigDocument doc = ConfigDocument::load(file);
     try {
       for (const KeyFlag& f : key_flags_)
         if (f.always || f.option->count()) doc.set(f.key, f.value, f.flag + " " + f.value);
@@ -71,7 +73,7 @@ class ToolConfig {
     } catch (const InputError& e) {
       // An error of the file alone is the file's (exit 1), whatever the overrides. Loaded
       // again: a copy of the document would share the overridden YAML tree.
-      ConfigDocument::load(config_file_).parse();
+      ConfigDocument::load(file).parse();
       throw asUsageError(e);
     }
     return doc;
@@ -84,13 +86,15 @@ class ToolConfig {
       if (f.option->count()) given.push_back(f.flag);
     for (const Switch& s : switches_)
       if (s.option->count()) given.push_back(s.flag);
-    if (config_option_->count()) given.push_back("--config");
+    if (config_file_.given()) given.push_back("--config");
     if (set_option_->count()) given.push_back("--set");
     return given;
   }
 
-  const std::string& file() const { return config_file_; }
-  bool fileGiven() const { return config_option_->count() > 0; }
+  // The configuration file: --config's, else the package's (throws InputError when the
+  // package is not found).
+  std::string file() const { return config_file_.path(); }
+  bool fileGiven() const { return config_file_.given(); }
   const std::vector<std::string>& sets() const { return sets_; }
 
  private:
@@ -104,9 +108,8 @@ class ToolConfig {
     CLI::Option* option;
   };
   CLI::App& app_;
-  std::string config_file_ = defaultConfigPath();
+  PackageFileFlag config_file_;
   std::vector<std::string> sets_;
-  CLI::Option* config_option_ = nullptr;
   CLI::Option* set_option_ = nullptr;
   std::deque<KeyFlag> key_flags_;  // a deque: CLI11 keeps pointers to each value
   std::deque<Switch> switches_;

@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_line.h"
+#include "package_file_flag.h"
 #include "tool_config.h"
 #include "valerant/dataset/dataset_render.h"
 #include "valerant/dataset/map_sets.h"
@@ -92,13 +93,12 @@ int main(int argc, char** argv) {
   tools::ToolConfig tool_config(app);
   tool_config.keyFlag("--width", "world.width", "INT", "frame width in pixels", "128");
   tool_config.keyFlag("--height", "world.height", "INT", "frame height in pixels", "96");
-  std::string out, split = "train", maps_text, exclude_text, in_solid = "skip",
-                   map_sets_file = dataset::defaultMapSetsPath();
+  std::string out, split = "train", maps_text, exclude_text, in_solid = "skip";
   int64_t seed_flag = 0;
   int shard_mib = 24;
   double texture_shuffle = 0;
   dataset::SamplingParams params;
-  app.add_option("--out", out, "shard folder (required unless --list-maps)")->type_name("DIR");
+  tools::addPath(app, "--out", out, "shard folder (required unless --list-maps)", "DIR");
   app.add_option("--split", split, "train: every installed map but the held-out ones; evaluation: the held-out maps")
       ->capture_default_str()
       ->check(CLI::IsMember({"train", "evaluation"}));
@@ -106,7 +106,8 @@ int main(int argc, char** argv) {
       app.add_option("--maps", maps_text, "maps, comma-separated (default: the split's maps)")->type_name("LIST");
   const CLI::Option* exclude_flag =
       app.add_option("--exclude", exclude_text, "maps to leave out, comma-separated")->type_name("LIST");
-  app.add_option("--map-sets", map_sets_file, "the held-out map sets")->type_name("FILE")->capture_default_str();
+  const tools::PackageFileFlag map_sets_file(app, "--map-sets", "the held-out map sets",
+                                             dataset::defaultMapSetsPath, "config/map_sets.yaml");
   tools::addInteger<int64_t>(app, "--seed", seed_flag, "random seed of the sequences (and the texture shuffle)", 0);
   tools::addInteger(app, "--spawns", params.spawns, "spawns whose candidate rollouts are rendered, per map", 0);
   tools::addInteger(app, "--rotations", params.rotations, "turns in place from random reachable cells, per map", 0);
@@ -129,7 +130,7 @@ int main(int argc, char** argv) {
   return tools::runTool(app, argc, argv, [&] {
     const Config config = tool_config.document().parse();
     if (every > 0) params.rollout_every = params.rotation_every = params.walk_every = every;
-    const dataset::MapSets sets = dataset::loadMapSets(map_sets_file);
+    const dataset::MapSets sets = dataset::loadMapSets(map_sets_file.path());
     const std::vector<std::string> maps = chooseMaps(*maps_flag, maps_text, *exclude_flag, exclude_text, sets, split);
     if (list_maps->count()) {
       for (const auto& m : maps) std::cout << m << '\n';
@@ -140,6 +141,10 @@ int main(int argc, char** argv) {
       throw tools::UsageError("--texture-shuffle",
                               "randomises training data only; an evaluation shard shows the maps as they are");
     if (out.empty()) throw tools::UsageError("--out", "is required");
+    // Zero sequences of every kind would write no shard and still report success.
+    if (params.spawns == 0 && params.rotations == 0 && params.walks == 0)
+      throw tools::UsageError("--spawns 0 --rotations 0 --walks 0",
+                              "render nothing: give one of them a count");
     fs::create_directories(out);
 
     // The pool is every training map's, whichever maps this run renders, so runs over

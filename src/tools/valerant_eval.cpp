@@ -125,14 +125,13 @@ int main(int argc, char** argv) {
   app.add_option("--configs", configs_text, "configurations, comma-separated: " + joined(knownEvalConfigs(), ", "))
       ->type_name("LIST")
       ->capture_default_str();
-  app.add_option("--out", out, "grid folder (runs/, results.csv, evaluation.md)")->type_name("DIR")->required();
+  tools::addPath(app, "--out", out, "grid folder (runs/, results.csv, evaluation.md)", "DIR")->required();
   tools::addInteger(app, "--jobs", jobs, "runs at a time", 1);
   tools::addInteger(app, "--run-timeout", run_timeout, "seconds a run may take (0: no limit)", 0);
   const CLI::Option* report_only_flag = app.add_flag("--report-only", "report the finished runs, start none");
   const CLI::Option* publish_flag =
-      app.add_option("--publish", publish,
-                     "also write the report there (e.g. docs/evaluation.md), its images beside it")
-          ->type_name("FILE");
+      tools::addPath(app, "--publish", publish,
+                     "also write the report there (e.g. docs/evaluation.md), its images beside it", "FILE");
   return tools::runTool(app, argc, argv, [&] {
     // The grid's configuration, with --budget and --slam checked as every run will check them.
     const Config config = tool_config.document().parse();

@@ -91,11 +91,11 @@ int main(int argc, char** argv) {
   tool_config.switchFlag("--no-col-depth", "collision.depth_enabled=false", "ablation: no depth collision check");
   tool_config.switchFlag("--no-dp", "dead_pocket.enabled=false", "ablation: no dead-pocket rewind");
   std::string image;
-  app.add_option("--image", image,
-                 "start the learned world from this screenshot (PNG, JPEG; needs world.backend learned)")
-      ->type_name("FILE");
+  tools::addPath(app, "--image", image,
+                 "start the learned world from this screenshot (PNG, JPEG; needs world.backend learned)",
+                 "FILE");
   std::string out;
-  app.add_option("--out", out, "run folder")->type_name("DIR")->required();
+  tools::addPath(app, "--out", out, "run folder", "DIR")->required();
   CLI::Option* force = app.add_flag("--force", "replace the run the folder holds");
   CLI::Option* resume =
       app.add_flag("--resume", "continue the unfinished run the folder holds, with its own configuration");

@@ -89,10 +89,9 @@ int main(int argc, char** argv) {
       "valerant_export"};
   tools::useToolConventions(app);
   std::string run_dir, out, formats_text = joined(exportFormats(), ",");
-  app.add_option("--run", run_dir, "finished run folder (valerant_explore, the explorer node)")
-      ->type_name("DIR")
+  tools::addPath(app, "--run", run_dir, "finished run folder (valerant_explore, the explorer node)", "DIR")
       ->required();
-  app.add_option("--out", out, "export folder")->type_name("DIR")->required();
+  tools::addPath(app, "--out", out, "export folder", "DIR")->required();
   app.add_option("--formats", formats_text, "formats, comma-separated")->type_name("LIST")->capture_default_str();
   const CLI::Option* force = app.add_flag("--force", "overwrite files the export folder holds");
   return tools::runTool(app, argc, argv, [&] {

@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   tool_config.keyFlag("--spawn", "world.spawn", "INT", "spawn point index");
   std::string out, candidate;
   int every = 1;
-  app.add_option("--out", out, "output folder")->type_name("DIR")->required();
+  tools::addPath(app, "--out", out, "output folder", "DIR")->required();
   const CLI::Option* candidate_flag =
       app.add_option("--candidate", candidate, "one rollout: uw, jw, lw, jq, lq or a key string (default: all five)")
           ->type_name("KEYS");

@@ -148,7 +148,7 @@ int main(int argc, char** argv) {
   tool_config.keyFlag("--spawn", "world.spawn", "INT", "spawn point index");
   tool_config.keyFlag("--slam", "slam.backend", "visual|oracle", "SLAM backend");
   std::string out, candidates = "uw,jw,lw,jq,lq";
-  app.add_option("--out", out, "output folder")->type_name("DIR")->required();
+  tools::addPath(app, "--out", out, "output folder", "DIR")->required();
   app.add_option("--candidates", candidates, "candidates or key strings, comma-separated")
       ->type_name("LIST")
       ->capture_default_str();

@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """Fault injection against the built tools: a full disk at every output file, a real
 file-size limit, kills at random moments of an episode, reruns into unfinished run
-folders, bad numbers on the command line, signals, broken map files and malformed
-evaluation folders. Every fault must end in a clear error naming its input (or a
-complete run), never a hang, a truncated file under a final name or a lost map. Also
+folders, bad numbers and config files on the command line, signals, broken map files,
+malformed evaluation folders and a shell without the workspace (WithoutWorkspace).
+Every fault must end in a clear error naming its input (or a complete run), never an
+abort, a hang, a truncated file under a final name or a lost map. Also
 the smoke episodes of the learned world backend (LearnedWorldEpisodes), on the
 hand-made test model, from an engine spawn and from a screenshot.
 
@@ -333,6 +334,26 @@ class Faults(unittest.TestCase):
         status, _, err = run([tool("valerant_bench")])
         self.assertEqual(status, USAGE_ERROR, err)
         self.assertIn("subcommand", err)
+        # An empty folder or file: valerant_eval once wrote its grid into / ("" + "/runs").
+        for command, (_, needed, _) in TOOL_FLAGS.items():
+            for path_flag in ("--out", "--run"):
+                if path_flag not in needed:
+                    continue
+                with self.subTest(command=command, flag=path_flag):
+                    words = [out if word in ("OUT", "RUN") else word for word in needed]
+                    words[words.index(path_flag) + 1] = ""
+                    status, _, err = run([tool(command[0]), *command[1:], *words], timeout=60)
+                    self.assertEqual(status, USAGE_ERROR, err)
+                    self.assertIn(path_flag + ": an empty value names no folder", err)
+        status, _, err = run([tool("valerant_bench"), "rendre"])
+        self.assertEqual(status, USAGE_ERROR, err)
+        self.assertIn("'rendre': unknown subcommand (one of: render, slam, graph, map, depth, extent, wm)", err)
+        # Counts that render nothing once wrote no shard and exited 0.
+        status, _, err = run([tool("valerant_dataset"), "--maps", "oa_dm1", "--spawns", "0", "--rotations", "0",
+                              "--walks", "0", "--out", out])
+        self.assertEqual(status, USAGE_ERROR, err)
+        self.assertIn("--spawns 0 --rotations 0 --walks 0: render nothing", err)
+        self.assertFalse(os.path.exists(out))
 
     def test_truncated_config_is_an_error_naming_the_key(self):
         with open(os.path.join(ROOT, "config", "valerant.yaml")) as handle:
@@ -343,6 +364,24 @@ class Faults(unittest.TestCase):
         status, _, err = run([tool("valerant_explore"), *EPISODE, "--config", cut, "--out", self.folder("cut")])
         self.assertEqual(status, 1)
         self.assertIn(cut + ": collision: missing", err)
+
+    def test_config_files_that_do_not_load_are_errors_naming_them(self):
+        broken = os.path.join(self.scratch, "broken.yaml")
+        with open(broken, "w") as handle:
+            handle.write("policy:\n  budget_steps: [1, 2\n")
+        missing = os.path.join(self.scratch, "missing.yaml")
+        for flags, status_wanted, message in [
+                (["--config", missing], 1, missing + ": cannot read config file"),
+                (["--config", broken], 1, broken + ": invalid YAML"),
+                (["--config", self.scratch], 1, self.scratch + ": is a folder, not a config file"),
+                (["--config", ""], USAGE_ERROR, "--config: an empty value names no file"),
+                (["--set", "policy.budget_steps="], USAGE_ERROR, "policy.budget_steps: expected a number, got ''")]:
+            with self.subTest(flags=flags):
+                out = self.folder("bad_config")
+                status, _, err = run([tool("valerant_explore"), *EPISODE, *flags, "--out", out])
+                self.assertEqual(status, status_wanted, err)
+                self.assertIn(message, err)
+                self.assertFalse(os.path.exists(out), "nothing is made before the configuration loads")
 
     def test_signals(self):
         for sig, code, name in [(signal.SIGINT, 130, "SIGINT"), (signal.SIGTERM, 143, "SIGTERM")]:
@@ -491,6 +530,15 @@ class Faults(unittest.TestCase):
         with open(sheet, "rb") as handle:
             self.assertTrue(handle.read(8).startswith(b"\x89PNG"))
 
+    def test_graph_bench_names_the_error_of_the_episode_it_ran(self):
+        # The in-process episode fails on the map; its error once stayed in its log.
+        out = self.folder("graph_bench_bad_map")
+        status, _, err = run([tool("valerant_bench"), "graph", "--map", "no_such_map", "--slam", "oracle",
+                              "--budget", "1", "--out", out])
+        self.assertEqual(status, 1, err)
+        self.assertIn("valerant_explore: failed: valerant_explore: error: map 'no_such_map': not found", err)
+        self.assertIn(os.path.join(out, "in_process", "stderr.log"), err)
+
     def test_world_model_bench_with_a_missing_model_is_an_error_naming_it(self):
         missing = os.path.join(self.scratch, "no_such_world_model.onnx")
         status, _, err = run([tool("valerant_bench"), "wm", "--maps", "oa_dm2", "--model", missing])
@@ -532,6 +580,68 @@ class Faults(unittest.TestCase):
                 os.killpg(launch.pid, signal.SIGINT)
                 launch.wait(timeout=60)
         self.assertIn("parameter /valerant_config/set (floor.enabeld=false): floor.enabeld: unknown key", output)
+
+
+class WithoutWorkspace(unittest.TestCase):
+    """The tools from a shell that has not sourced the workspace: no ROS_PACKAGE_PATH,
+    VALERANT_SHARE_DIR or VALERANT_CONFIG, in a folder outside the package. --help works;
+    a run that needs the package's files ends with an error naming the flag whose
+    default it needed and the environment searched (exit 1), never an abort: the lookup
+    of --config's default once threw outside main's handler (SIGABRT, exit 134)."""
+    PACKAGE_VARIABLES = ("ROS_PACKAGE_PATH", "VALERANT_SHARE_DIR", "VALERANT_CONFIG")
+    # The tools that read the package's configuration when --config is left out
+    # (valerant_export and valerant_bench map read the run's own).
+    READS_PACKAGE_CONFIG = [command for command in TOOL_FLAGS
+                            if command not in (("valerant_export",), ("valerant_bench", "map"))]
+
+    @classmethod
+    def setUpClass(cls):
+        cls.scratch = tempfile.mkdtemp(prefix="valerant_no_workspace_")
+        cls.env = {name: value for name, value in os.environ.items() if name not in cls.PACKAGE_VARIABLES}
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.scratch, ignore_errors=True)
+
+    def run_bare(self, args, env=None):
+        """Runs a tool in the scratch folder without the package's variables."""
+        done = subprocess.run(args, capture_output=True, text=True, env=dict(self.env, **(env or {})),
+                              cwd=self.scratch, timeout=TIMEOUT)
+        return done.returncode, done.stdout, done.stderr
+
+    def test_every_tool_answers_help(self):
+        for command in [("valerant_bench",)] + list(TOOL_FLAGS):
+            with self.subTest(command=command):
+                status, out, err = self.run_bare([tool(command[0]), *command[1:], "--help"])
+                self.assertEqual(status, 0, err)
+                self.assertIn("Exit status", out)
+                if command in self.READS_PACKAGE_CONFIG:
+                    self.assertIn("--config FILE=the package's config/valerant.yaml (package not found)", out)
+
+    def test_a_run_that_needs_the_package_names_the_flag_and_the_environment(self):
+        out = os.path.join(self.scratch, "out")
+        for command in self.READS_PACKAGE_CONFIG:
+            needed = [out if word == "OUT" else word for word in TOOL_FLAGS[command][1]]
+            with self.subTest(command=command):
+                status, _, err = self.run_bare([tool(command[0]), *command[1:], *needed])
+                self.assertEqual(status, 1, err)
+                self.assertIn(" ".join(command) + ": error: --config left out: the package's "
+                              "config/valerant.yaml: ROS_PACKAGE_PATH='': no folder there holds the valerant "
+                              "package", err)
+                self.assertFalse(os.path.exists(out), "nothing is made before the configuration loads")
+        status, _, err = self.run_bare([tool("valerant_explore"), "--out", out], env={"VALERANT_SHARE_DIR": self.scratch})
+        self.assertEqual(status, 1, err)
+        self.assertIn("VALERANT_SHARE_DIR=" + self.scratch + ": holds no package.xml naming valerant", err)
+
+    def test_files_given_on_the_command_line_need_no_package(self):
+        config = ["--config", os.path.join(ROOT, "config", "valerant.yaml")]
+        status, out, err = self.run_bare([tool("valerant_dataset"), *config, "--map-sets",
+                                          os.path.join(ROOT, "config", "map_sets.yaml"), "--list-maps"])
+        self.assertEqual(status, 0, err)
+        self.assertIn("oa_dm1", out.split())
+        status, _, err = self.run_bare([tool("valerant_dataset"), *config, "--list-maps"])
+        self.assertEqual(status, 1, err)
+        self.assertIn("--map-sets left out: the package's config/map_sets.yaml: ROS_PACKAGE_PATH=''", err)
 
 
 class LearnedWorldEpisodes(unittest.TestCase):

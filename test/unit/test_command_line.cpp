@@ -1,16 +1,23 @@
-// The tools' command lines (src/tools/command_line.h, tool_config.h): --help exits 0 and
-// lists every flag; a bad command line is an error naming the flag and its value, exit
+// The tools' command lines (src/tools/command_line.h, tool_config.h,
+// package_file_flag.h): --help exits 0 and lists every flag, also where the package
+// folder is unknown; a bad command line is an error naming the flag and its value, exit
 // status 2; integers are read whole and must fit their range; configuration overrides go
 // through the strict loader, in command-line order.
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "command_line.h"
+#include "package_file_flag.h"
 #include "tool_config.h"
+#include "valerant/config/package_dir.h"
 
 using valerant::InputError;
 using valerant::tools::UsageError;
@@ -53,6 +60,42 @@ Outcome runOn(
   o.err = testing::internal::GetCapturedStderr();
   return o;
 }
+
+// Environment variables set or unset for one test, restored when it ends.
+class ScopedEnvironment {
+ public:
+  ScopedEnvironment(std::initializer_list<std::pair<const char*, std::optional<std::string>>> values) {
+    for (const auto& [name, value] : values) {
+      const char* before = std::getenv(name);
+      saved_[name] = before ? std::optional<std::string>(before) : std::nullopt;
+      if (value)
+        ::setenv(name, value->c_str(), 1);
+      else
+        ::unsetenv(name);
+    }
+  }
+  ScopedEnvironment(const ScopedEnvironment&) = delete;
+  ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+  ~ScopedEnvironment() {
+    for (const auto& [name, value] : saved_)
+      if (value)
+        ::setenv(name.c_str(), value->c_str(), 1);
+      else
+        ::unsetenv(name.c_str());
+  }
+
+ private:
+  std::map<std::string, std::optional<std::string>> saved_;
+};
+
+// A shell without the workspace sourced: nothing says where the package is.
+ScopedEnvironment withoutThePackage() {
+  return {{"ROS_PACKAGE_PATH", std::nullopt},
+          {"VALERANT_SHARE_DIR", std::nullopt},
+          {"VALERANT_CONFIG", std::nullopt}};
+}
+
+const std::string kShipped = std::string(VALERANT_SOURCE_DIR) + "/config/valerant.yaml";
 
 }  // namespace
 
@@ -161,7 +204,7 @@ TEST(CommandLine, SubcommandsHaveTheirOwnHelpAndErrors) {
   EXPECT_EQ(o.status, 2);
   o = runOn(app, {"rendre"});
   EXPECT_EQ(o.status, 2);
-  EXPECT_NE(o.err.find("rendre"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("'rendre': unknown subcommand (one of: render)"), std::string::npos) << o.err;
 }
 
 TEST(ToolConfig, OverridesGoThroughTheLoaderInCommandLineOrder) {
@@ -208,4 +251,76 @@ TEST(ToolConfig, ABadOverrideIsAUsageErrorNamingItAndABadFileIsNot) {
       runOn(app, {"--config", cut, "--set", "policy.budget_steps=0"}, [&] { return config.document().parse(), 0; });
   EXPECT_EQ(o.status, 1);
   EXPECT_NE(o.err.find(cut), std::string::npos) << o.err;
+}
+
+TEST(PackageFileFlag, WithoutThePackageHelpWorksAndARunNamesTheFlagAndTheEnvironment) {
+  const ScopedEnvironment environment = withoutThePackage();
+  // Making the flags once threw the package's InputError outside runTool: every tool
+  // aborted (SIGABRT), --help included.
+  CLI::App help_app{"a test tool", "valerant_test_tool"};
+  valerant::tools::useToolConventions(help_app);
+  const valerant::tools::ToolConfig help_config(help_app);
+  Outcome o = runOn(help_app, {"--help"});
+  EXPECT_EQ(o.status, 0);
+  EXPECT_NE(o.out.find("--config FILE=the package's config/valerant.yaml (package not found)"),
+            std::string::npos)
+      << o.out;
+  // A run that reads the default fails as the environment's fault (exit 1), not the
+  // command line's, and says what to do.
+  CLI::App app{"a test tool", "valerant_test_tool"};
+  const valerant::tools::ToolConfig config(app);
+  o = runOn(app, {}, [&] { return config.document().parse(), 0; });
+  EXPECT_EQ(o.status, 1);
+  EXPECT_EQ(o.err.rfind("valerant_test_tool: error: --config left out: the package's config/valerant.yaml: "
+                        "ROS_PACKAGE_PATH='': no folder there holds the valerant package",
+                        0),
+            0u)
+      << o.err;
+  EXPECT_NE(o.err.find("VALERANT_SHARE_DIR"), std::string::npos) << o.err;
+  // --config names the file: no package needed.
+  CLI::App given_app{"a test tool", "valerant_test_tool"};
+  const valerant::tools::ToolConfig given_config(given_app);
+  o = runOn(given_app, {"--config", kShipped}, [&] {
+    EXPECT_EQ(given_config.file(), kShipped);
+    return given_config.document().parse(), 0;
+  });
+  EXPECT_EQ(o.status, 0) << o.err;
+}
+
+TEST(PackageFileFlag, HelpShowsTheDefaultsPathWhenThePackageIsFound) {
+  const std::string share = std::filesystem::canonical(VALERANT_SOURCE_DIR).string();
+  const ScopedEnvironment environment = {{"VALERANT_SHARE_DIR", share}, {"VALERANT_CONFIG", std::nullopt}};
+  CLI::App app{"a test tool", "valerant_test_tool"};
+  const valerant::tools::PackageFileFlag sets(
+      app, "--map-sets", "the held-out map sets",
+      [] { return valerant::packageFilePath("config/map_sets.yaml"); }, "config/map_sets.yaml");
+  const Outcome o = runOn(app, {"--help"});
+  EXPECT_EQ(o.status, 0);
+  EXPECT_NE(o.out.find("--map-sets FILE=" + share + "/config/map_sets.yaml"), std::string::npos) << o.out;
+  EXPECT_FALSE(sets.given());
+  EXPECT_EQ(sets.path(), share + "/config/map_sets.yaml");
+}
+
+TEST(CommandLine, AnEmptyPathIsAnErrorNamingTheFlag) {
+  // valerant_eval --out '' once wrote its grid into the root folder ("" + "/runs").
+  for (const char* type : {"DIR", "FILE"}) {
+    CLI::App app{"a test tool", "valerant_test_tool"};
+    std::string out;
+    valerant::tools::addPath(app, "--out", out, "output folder", type);
+    bool worked = false;
+    const Outcome o = runOn(app, {"--out", ""}, [&] { return worked = true, 0; });
+    EXPECT_EQ(o.status, 2);
+    EXPECT_FALSE(worked);
+    EXPECT_NE(o.err.find(std::string("valerant_test_tool: error: --out: an empty value names no ") +
+                         (type == std::string("DIR") ? "folder" : "file")),
+              std::string::npos)
+        << o.err;
+    EXPECT_EQ(runOn(app, {"--out", "x"}).status, 0);
+    EXPECT_EQ(out, "x");
+  }
+  CLI::App app{"a test tool", "valerant_test_tool"};
+  const valerant::tools::ToolConfig config(app);  // --config is such a flag too
+  const Outcome o = runOn(app, {"--config", ""});
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.err.find("--config: an empty value names no file"), std::string::npos) << o.err;
 }

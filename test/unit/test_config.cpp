@@ -293,6 +293,28 @@ TEST(Config, MissingFileAndBadYamlAreNamed) {
     EXPECT_EQ(e.input(), "/nonexistent/valerant.yaml");
   }
   EXPECT_NE(errorOf("policy: [1, 2").find("test.yaml: invalid YAML"), std::string::npos);
+  // A folder opens as an empty stream; it once read as an empty config file.
+  const auto dir = scratchFolder("folder");
+  try {
+    loadConfig(dir.string());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), dir.string() + ": is a folder, not a config file");
+  }
+}
+
+TEST(Config, AKeyWithoutAValueIsNamedAsEmpty) {
+  // YAML reads "key:" and --set key= as null, which the message once called a mapping.
+  EXPECT_EQ(errorOf("policy:\n  budget_steps:\n"),
+            "test.yaml: policy.budget_steps: expected a number, got ''");
+  ConfigDocument d = ConfigDocument::load(kShipped);
+  d.setAssignment("floor.enabled=", "--set floor.enabled=");
+  try {
+    d.parse();
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--set floor.enabled=: floor.enabled: expected true or false, got ''");
+  }
 }
 
 TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {

@@ -122,6 +122,26 @@ TEST(PackageDir, FilePathsResolveInsideTheOverride) {
     ::unsetenv("VALERANT_SHARE_DIR");
 }
 
+TEST(PackageDir, AFilePathWithoutThePackageNamesTheFileAndTheSearch) {
+  const fs::path empty = scratch("no_package");
+  const char* saved = std::getenv("VALERANT_SHARE_DIR");
+  const std::string previous = saved ? saved : "";
+  ::setenv("VALERANT_SHARE_DIR", empty.c_str(), 1);
+  try {
+    packageFilePath("models/depth_prior.onnx");
+    ADD_FAILURE() << "no package, no path";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.input(), "the package's models/depth_prior.onnx");
+    EXPECT_EQ(std::string(e.what()), "the package's models/depth_prior.onnx: VALERANT_SHARE_DIR=" +
+                                         empty.string() + ": holds no package.xml naming valerant");
+  }
+  EXPECT_EQ(packageFilePath("/abs/model.onnx"), "/abs/model.onnx");  // an absolute path needs no package
+  if (saved)
+    ::setenv("VALERANT_SHARE_DIR", previous.c_str(), 1);
+  else
+    ::unsetenv("VALERANT_SHARE_DIR");
+}
+
 TEST(PackageDir, TheBuildTreeFindsTheSourceTree) {
   // scripts/env.sh and catkin's test environment put the source tree on ROS_PACKAGE_PATH.
   EXPECT_EQ(packageShareDir(), fs::canonical(VALERANT_SOURCE_DIR).string());

@@ -12,7 +12,8 @@ namespace valerant {
 // searched when neither holds it.
 std::string packageShareDir();
 
-// `path` if absolute, else that path inside packageShareDir().
+// `path` if absolute, else that path inside packageShareDir(); when the package is not
+// found, the InputError names `path` as well.
 std::string packageFilePath(const std::string& path);
 
 // The search itself, with the environment passed in: `share_dir_override` (may be empty)

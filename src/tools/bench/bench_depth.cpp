@@ -185,8 +185,8 @@ BenchRun addBenchDepth(CLI::App& bench) {
           ->type_name("LIST");
   addInteger(*app, "--spawns", *spawns, "spawn points 0 to N-1 of every map", 1);
   const CLI::Option* model_flag =
-      app->add_option("--model", *model, "ONNX depth model (default: the configuration's slam.depth_prior_model)")
-          ->type_name("FILE");
+      addPath(*app, "--model", *model,
+              "ONNX depth model (default: the configuration's slam.depth_prior_model)", "FILE");
   return [=] {
     return runDepthBench(tool_config->document().parse(), maps_flag->count() ? std::optional(*maps) : std::nullopt,
                          *spawns, model_flag->count() ? std::optional(*model) : std::nullopt);

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <string>
 
 #include "../child_process.h"
 #include "../tool_config.h"
@@ -33,6 +34,16 @@ struct EpisodeRun {
   nlohmann::json decisions = nlohmann::json::array();
 };
 
+// The last non-empty line of the log at `path` ("" when there is none): a failed
+// tool's own error.
+std::string lastLogLine(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
 // Runs `argv` with logs in `dir`, then reads the episode it wrote into `dir`.
 EpisodeRun runEpisode(const std::vector<std::string>& argv, const std::string& dir,
                       const std::map<std::string, std::string>& environment = {}) {
@@ -41,7 +52,11 @@ EpisodeRun runEpisode(const std::vector<std::string>& argv, const std::string& d
   const bool ok = waitForChild(startChild(argv, dir + "/stdout.log", dir + "/stderr.log", environment));
   EpisodeRun run;
   run.process_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!ok) throw InputError(argv[0], "failed (see " + dir + "/stderr.log and stdout.log)");
+  if (!ok) {  // its error (a map not found, say) in the message, not only in the log
+    const std::string error = lastLogLine(dir + "/stderr.log");
+    throw InputError(argv[0], "failed" + (error.empty() ? "" : ": " + error) + " (see " + dir +
+                                  "/stderr.log and stdout.log)");
+  }
   std::ifstream report_file(dir + "/report.json");
   if (!report_file) throw InputError(dir + "/report.json", "missing after " + argv[0]);
   const nlohmann::json report = nlohmann::json::parse(report_file);
@@ -112,7 +127,7 @@ BenchRun addBenchGraph(CLI::App& bench) {
   tool_config->keyFlag("--slam", "slam.backend", "visual|oracle", "SLAM backend");
   tool_config->keyFlag("--budget", "policy.budget_steps", "INT", "steps to commit", "5");
   auto out = std::make_shared<std::string>();
-  app->add_option("--out", *out, "output folder (config.yaml, in_process/, graph/)")->type_name("DIR")->required();
+  addPath(*app, "--out", *out, "output folder (config.yaml, in_process/, graph/)", "DIR")->required();
   return [tool_config, out] { return runGraphBench(tool_config->document(), *out); };
 }
 

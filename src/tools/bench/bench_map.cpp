@@ -92,7 +92,7 @@ BenchRun addBenchMap(CLI::App& bench) {
                                        "finished run's map grows");
   auto dir = std::make_shared<std::string>();
   auto updates = std::make_shared<long>(15);
-  app->add_option("--run", *dir, "finished run folder")->type_name("DIR")->required();
+  addPath(*app, "--run", *dir, "finished run folder", "DIR")->required();
   addInteger(*app, "--updates", *updates, "equal groups the keyframes arrive in", 1L);
   return [dir, updates] { return runMapBench(*dir, *updates); };
 }

@@ -366,11 +366,10 @@ BenchRun addBenchWorldModel(CLI::App& bench) {
       app->add_option("--maps", *maps, "maps, comma-separated (default: the evaluation maps of config/map_sets.yaml)")
           ->type_name("LIST");
   addInteger(*app, "--spawns", *spawns, "spawn points 0 to N-1 of every map", 1);
-  const CLI::Option* model_flag =
-      app->add_option("--model", *model, "ONNX world model (default: the configuration's world.learned.model)")
-          ->type_name("FILE");
+  const CLI::Option* model_flag = addPath(
+      *app, "--model", *model, "ONNX world model (default: the configuration's world.learned.model)", "FILE");
   const CLI::Option* out_flag =
-      app->add_option("--out", *out, "folder for one comparison sheet PNG per map and spawn")->type_name("DIR");
+      addPath(*app, "--out", *out, "folder for one comparison sheet PNG per map and spawn", "DIR");
   return [=] {
     Flags flags;
     if (maps_flag->count()) flags.maps = *maps;
