@@ -28,6 +28,7 @@ PenetrationCounts countPenetrations(const std::vector<FrameTruth>& truth) {
     c.frames += f.in_solid;
     c.in_solid += f.hull_in_solid;
     c.outside_world += f.outside_world;
+    c.clip_only += f.hull_in_clip_only && !f.outside_world;
   }
   return c;
 }
@@ -48,8 +49,8 @@ std::vector<PenetrationEvent> penetrationEvents(const std::vector<StepRecord>& h
     int first = 0;
     while (!c.truth[first].in_solid) ++first;
     const PenetrationCounts counts = countPenetrations(c.truth);
-    events.push_back({step.step, c.verdict.candidate, frames, counts.in_solid, counts.outside_world, first,
-                      c.verdict.occupied_max, c.verdict.min_near_ratio});
+    events.push_back({step.step, c.verdict.candidate, frames, counts.in_solid, counts.outside_world,
+                      counts.clip_only, first, c.verdict.occupied_max, c.verdict.min_near_ratio});
   }
   return events;
 }
@@ -134,6 +135,7 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   t.penetrating_frames = penetrations.frames;
   t.penetrating_frames_in_solid = penetrations.in_solid;
   t.penetrating_frames_outside_world = penetrations.outside_world;
+  t.penetrating_frames_clip_only = penetrations.clip_only;
   // The context frames are in the trajectory but in no step: a spawn is never in solid.
   t.discarded_penetrating_frames = committedInSolidFrames(episode.history()) - t.penetrating_frames;
 

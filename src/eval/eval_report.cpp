@@ -200,7 +200,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     ConfigSummary s;
     s.config = config;
     std::vector<std::vector<double>> curves, committed_curves, wall_curves;
-    Mean observed_percent, observed_m2, per_clean_step, penetrations, outside_world, discarded, rewinds, false_rejections, missed,
+    Mean observed_percent, observed_m2, per_clean_step, penetrations, outside_world, clip_only, discarded, rewinds, false_rejections, missed,
         ate, accuracy, completeness, wall, frames_per_second, committed_steps, per_step;
     std::map<std::string, Mean> stages;
     // Verdicts of the runs that record both figures of a ratio.
@@ -222,6 +222,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
       }
       penetrations.addField(g, "penetrations");
       outside_world.addField(g, "penetrations_outside_world");
+      clip_only.addField(g, "penetrations_clip_only");
       discarded.addField(g, "discarded_penetrations");
       rewinds.addField(j, "rewinds");
       false_rejections.addField(g, "false_rejections");
@@ -272,6 +273,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     s.observed_m2_per_clean_step = per_clean_step.value();
     s.penetrations = penetrations.value();
     s.penetrations_outside_world = outside_world.value();
+    s.penetrations_clip_only = clip_only.value();
     s.discarded_penetrations = discarded.value();
     s.rewinds = rewinds.value();
     s.false_rejections = false_rejections.value();
@@ -299,7 +301,7 @@ namespace {
 
 const char* const kResultsCsvHeader =
     "map,spawn,config,ok,committed_steps,rewinds,observed_reachable_percent,observed_reachable_m2,"
-    "penetrations,penetrations_in_solid,penetrations_outside_world,discarded_penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,"
+    "penetrations,penetrations_in_solid,penetrations_outside_world,penetrations_clip_only,discarded_penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,"
     "accuracy_median_m,accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,error";
 
 // "map,spawn,config" of a results.csv row: what identifies its run.
@@ -354,7 +356,7 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
     const std::pair<const nlohmann::json*, const char*> fields[] = {
         {&j, "committed_steps"},       {&j, "rewinds"},           {&g, "observed_reachable_percent"},
         {&g, "observed_reachable_m2"}, {&g, "penetrations"},      {&g, "penetrations_in_solid"},
-        {&g, "penetrations_outside_world"}, {&g, "discarded_penetrations"},
+        {&g, "penetrations_outside_world"}, {&g, "penetrations_clip_only"}, {&g, "discarded_penetrations"},
         {&g, "penetration_free_steps"}, {&g, "false_rejections"}, {&g, "missed_collisions"},
         {&g, "ate_percent"},           {&g, "accuracy_median_m"}, {&g, "accuracy_p90_m"},
         {&g, "completeness_percent"},  {&j, "wall_seconds"},      {&j, "frames_rendered"}};
@@ -390,7 +392,7 @@ std::string penetrationEventsSection(const std::vector<EvalResult>& results, con
       ++events;
       rows << "| " << r.run.map << " | " << r.run.spawn << " | " << number(e, "step") << " | "
            << (field(e, "candidate").is_string() ? cell(field(e, "candidate").get<std::string>()) : "?")
-           << " | " << number(e, "frames") << " | "
+           << " | " << number(e, "frames") << " | " << recorded(e, "frames_clip_only") << " | "
            << number(e, "first_frame") << " | " << number(e, "occupied_max") << " | "
            << fixed(number(e, "min_near_ratio"), 2) << " |\n";
     }
@@ -400,8 +402,8 @@ std::string penetrationEventsSection(const std::vector<EvalResult>& results, con
   else if (events == 0)
     md << "None.\n";
   else
-    md << "| map | spawn | step | candidate | in-solid frames | first in-solid frame | points in body | "
-          "central depth / camera height |\n|---|---|---|---|---|---|---|---|\n"
+    md << "| map | spawn | step | candidate | in-solid frames | of them in invisible clips | first in-solid frame | "
+          "points in body | central depth / camera height |\n|---|---|---|---|---|---|---|---|---|\n"
        << rows.str();
   if (unrecorded > 0)
     md << "\n" << unrecorded << " run(s) have a report.json written before the events were recorded.\n";
@@ -416,16 +418,19 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "(1 m cells) the fused map observed; per clean step divides the observed area by the committed steps "
         "none of whose frames entered solid. Penetrations count committed frames whose player hull is inside "
         "solid brushes or whose centre is outside the playable world (past the world's bounds, or in a BSP leaf "
-        "with no cluster: through an outer wall); the next column counts the latter alone; discarded ones count those of committed steps that a later rewind threw away (they "
+        "with no cluster: through an outer wall); the next column counts the latter alone, the one after it "
+        "those whose hull is in player-clip brushes alone (they stop the player but draw nothing, so no camera "
+        "sees them); discarded ones count those of committed steps that a later rewind threw away (they "
         "are not on the final trajectory, but the agent did commit them).\n\n"
      << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | "
-        "of them outside the world | discarded penetrations | rewinds | false rejections | missed collisions | verdict precision | verdict recall | ATE % | accuracy median m | "
+        "of them outside the world | of them in invisible clips | discarded penetrations | rewinds | false rejections | missed collisions | verdict precision | verdict recall | ATE % | accuracy median m | "
         "completeness % | s / run | frames/s |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : summaries) {
     md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << mean(s.observed_percent) << " | "
        << mean(s.observed_m2) << " | " << mean(s.observed_m2_per_clean_step, 2) << " | " << mean(s.penetrations)
-       << " | " << mean(s.penetrations_outside_world) << " | " << mean(s.discarded_penetrations) << " | " << mean(s.rewinds, 2) << " | " << mean(s.false_rejections)
+       << " | " << mean(s.penetrations_outside_world) << " | " << mean(s.penetrations_clip_only) << " | "
+       << mean(s.discarded_penetrations) << " | " << mean(s.rewinds, 2) << " | " << mean(s.false_rejections)
        << " | " << mean(s.missed_collisions) << " | " << ratio(s.verdict_precision) << " | "
        << ratio(s.verdict_recall) << " | " << mean(s.ate_percent, 2) << " | " << mean(s.accuracy_median_m, 3)
        << " | " << mean(s.completeness_percent) << " | " << mean(s.wall_seconds) << " | "
@@ -462,19 +467,20 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
      << "Top-down maps of every run, one sheet per configuration: ";
   for (const auto& s : summaries) md << "[" << s.config << "](" << plots_prefix << "topdowns_" << s.config << ".png) ";
   md << "\n\n| map | spawn | config | reachable observed % | m2 | committed steps | penetrations | "
-        "of them outside the world | discarded penetrations | rewinds |\n"
-        "|---|---|---|---|---|---|---|---|---|---|\n";
+        "of them outside the world | of them in invisible clips | discarded penetrations | rewinds |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     if (!r.ok) {
       md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | failed: " << cell(r.error)
-         << " | | | | | | |\n";
+         << " | | | | | | | |\n";
       continue;
     }
     const auto& g = field(r.report, "ground_truth");
     md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | "
        << recorded(g, "observed_reachable_percent", 1) << " | " << recorded(g, "observed_reachable_m2") << " | "
        << recorded(r.report, "committed_steps") << " | " << recorded(g, "penetrations") << " | "
-       << recorded(g, "penetrations_outside_world") << " | " << recorded(g, "discarded_penetrations") << " | " << recorded(r.report, "rewinds") << " |\n";
+       << recorded(g, "penetrations_outside_world") << " | " << recorded(g, "penetrations_clip_only") << " | "
+       << recorded(g, "discarded_penetrations") << " | " << recorded(r.report, "rewinds") << " |\n";
   }
   return md.str();
 }

@@ -324,6 +324,7 @@ valerant::GroundTruth toMsg(const FrameTruth& truth, bool with_depth) {
   msg.in_solid = truth.in_solid;
   msg.floor_z = truth.floor_z;
   msg.hull_in_solid = truth.hull_in_solid;
+  msg.hull_in_clip_only = truth.hull_in_clip_only;
   msg.outside_world = truth.outside_world;
   return msg;
 }
@@ -335,6 +336,7 @@ FrameTruth fromMsg(const valerant::GroundTruth& msg) {
   t.in_solid = msg.in_solid;
   t.floor_z = msg.floor_z;
   t.hull_in_solid = msg.hull_in_solid;
+  t.hull_in_clip_only = msg.hull_in_clip_only;
   t.outside_world = msg.outside_world;
   return t;
 }

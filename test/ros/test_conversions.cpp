@@ -244,6 +244,7 @@ TEST(Conversions, GroundTruthRoundTripIsExactWithAndWithoutDepth) {
   truth.in_solid = true;
   truth.floor_z = -24.125;
   truth.hull_in_solid = false;
+  truth.hull_in_clip_only = true;
   truth.outside_world = true;
   const FrameTruth back = fromMsg(toMsg(truth, true));
   EXPECT_EQ(back.camera_to_world.matrix(), truth.camera_to_world.matrix());
@@ -251,6 +252,7 @@ TEST(Conversions, GroundTruthRoundTripIsExactWithAndWithoutDepth) {
   EXPECT_EQ(back.in_solid, truth.in_solid);
   EXPECT_EQ(back.floor_z, truth.floor_z);
   EXPECT_EQ(back.hull_in_solid, truth.hull_in_solid);
+  EXPECT_EQ(back.hull_in_clip_only, truth.hull_in_clip_only);
   EXPECT_EQ(back.outside_world, truth.outside_world);
   EXPECT_TRUE(fromMsg(toMsg(truth, false)).depth_m.empty());
 }

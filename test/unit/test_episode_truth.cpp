@@ -139,6 +139,7 @@ FrameTruth truthAt(const quake3::CameraKinematics& k, double x, double y) {
   s.xy = {x, y};
   FrameTruth t;
   t.hull_in_solid = k.hullInSolid(s);
+  t.hull_in_clip_only = k.hullInClipOnly(s);
   t.outside_world = k.outsideWorld(s);
   t.in_solid = k.inSolid(s);
   return t;
@@ -210,4 +211,60 @@ TEST(EpisodeTruth, PenetrationEventsTellTheReasonsApart) {
   EXPECT_EQ(events[0].frames_outside_world, 3);
   EXPECT_EQ(events[0].first_frame, 1);
   EXPECT_EQ(committedInSolidFrames(history), 4);
+}
+
+// A player-clip brush stops the player but draws nothing: a hull in it alone is in
+// solid, and its frame counts as clip-only; a hull that also touches a solid brush, or
+// whose centre is outside the world, does not. The world: a floor (top z = 0), clip C at
+// x in [100, 200] and solid D at x in [200, 300] (|y| <= 50, 128 high, side by side),
+// bounds x, y in [-512, 512]. The hull spans |x| <= 15 around the camera:
+//   (150, 0)  hull x in [135, 165], inside C only          -> in solid, clip only
+//   (200, 0)  hull x in [185, 215], in C and D             -> in solid, not clip only
+//   (250, 0)  hull x in [235, 265], inside D only          -> in solid, not clip only
+//   (0, 0)    open floor                                   -> neither
+// contents: C alone 0x10000, C and D 0x10001, D 0x1, the floor under it only touched: 0.
+TEST(EpisodeTruth, AHullInPlayerClipAloneIsAnInvisiblePenetration) {
+  quake3::ConvexBrush clip = boxBrush({100, -50, 0}, {200, 50, 128});
+  clip.contents = quake3::kContentsPlayerClip;
+  quake3::PlayableWorld world;
+  world.bounds = Eigen::AlignedBox3f(Eigen::Vector3f(-512, -512, -16), Eigen::Vector3f(512, 512, 256));
+  const quake3::CollisionModel model(
+      {boxBrush({-512, -512, -16}, {512, 512, 0}), clip, boxBrush({200, -50, 0}, {300, 50, 128})}, world);
+  const Eigen::Vector3f mins(-15, -15, -24), maxs(15, 15, 32);
+  EXPECT_EQ(model.boxContents({150, 0, 24}, mins, maxs), quake3::kContentsPlayerClip);
+  EXPECT_EQ(model.boxContents({200, 0, 24}, mins, maxs), quake3::kContentsPlayerClip | quake3::kContentsSolid);
+  EXPECT_EQ(model.boxContents({250, 0, 24}, mins, maxs), quake3::kContentsSolid);
+  EXPECT_EQ(model.boxContents({0, 0, 24}, mins, maxs), 0);
+
+  const quake3::CameraKinematics k(model, 50, 1024);
+  const std::vector<FrameTruth> frames = {truthAt(k, 150, 0), truthAt(k, 200, 0), truthAt(k, 250, 0),
+                                          truthAt(k, 0, 0)};
+  const std::vector<std::array<bool, 2>> expected = {{true, true}, {true, false}, {true, false}, {false, false}};
+  for (size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(frames[i].in_solid, expected[i][0]) << "pose " << i;
+    EXPECT_EQ(frames[i].hull_in_clip_only, expected[i][1]) << "pose " << i;
+  }
+  const PenetrationCounts counts = countPenetrations(frames);
+  EXPECT_EQ(counts.frames, 3);
+  EXPECT_EQ(counts.in_solid, 3);
+  EXPECT_EQ(counts.clip_only, 1);
+
+  // Clip-only counts the frames whose one reason is the invisible clip: a hull in clip
+  // whose centre is also outside the world counts as outside the world instead.
+  FrameTruth outside = frames[0];
+  outside.outside_world = true;
+  EXPECT_EQ(countPenetrations({outside}).clip_only, 0);
+
+  std::vector<StepRecord> history(1);
+  history[0].step = 2;
+  CandidateRecord c;
+  c.verdict.candidate = "jw@15";
+  c.truth = {frames[3], frames[0], frames[0], frames[1]};
+  history[0].candidates = {c};
+  history[0].chosen = 0;
+  const std::vector<PenetrationEvent> events = penetrationEvents(history);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].frames, 3);
+  EXPECT_EQ(events[0].frames_clip_only, 2);
+  EXPECT_EQ(events[0].first_frame, 1);
 }

@@ -136,11 +136,11 @@ TEST(EvalReport, MeansPerConfiguration) {
   EXPECT_EQ(s[1].observed_by_step, (std::vector<double>{(10 + 4) / 2.0, (10 + 8) / 2.0}));
   const std::string md = markdownReport(s, results, "cmd", "");
   EXPECT_NE(md.find("| full | 3 | 0 | 16.7 |"), std::string::npos);
-  EXPECT_NE(md.find("| 0.0 | - | 2.0 | 1.00 |"), std::string::npos);  // full: penetrations, outside, discarded, rewinds
-  EXPECT_NE(md.find("| 45.00 | 3.0 | - | - | 1.00 |"), std::string::npos);  // random: none recorded
+  EXPECT_NE(md.find("| 0.0 | - | - | 2.0 | 1.00 |"), std::string::npos);  // full: penetrations, outside, clip, discarded, rewinds
+  EXPECT_NE(md.find("| 45.00 | 3.0 | - | - | - | 1.00 |"), std::string::npos);  // random: none recorded
   // These reports do not record committed_steps: "-", not 0.
-  EXPECT_NE(md.find("| m | 0 | full | 20.0 | 200 | - | 0 | - | 4 | 1 |"), std::string::npos);
-  EXPECT_NE(md.find("| m | 0 | full | 0.0 | 0 | - | 0 | - | - | 1 |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 0 | full | 20.0 | 200 | - | 0 | - | - | 4 | 1 |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 0 | full | 0.0 | 0 | - | 0 | - | - | - | 1 |"), std::string::npos);
   // No full report lists penetration events: the section says how many predate them.
   EXPECT_NE(md.find("3 run(s) have a report.json written before"), std::string::npos);
   EXPECT_NE(md.find("failed: no report.json"), std::string::npos);
@@ -178,11 +178,12 @@ TEST(EvalReport, PenetrationEventsSectionListsTheRunsEvents) {
     return r;
   };
   const nlohmann::json graze = {{"step", 14},         {"candidate", "jw@20"},     {"frames", 4},
-                                {"first_frame", 16}, {"occupied_max", 0}, {"min_near_ratio", 4.6406}};
+                                {"frames_clip_only", 3}, {"first_frame", 16},   {"occupied_max", 0},
+                                {"min_near_ratio", 4.6406}};
   const std::vector<EvalResult> results = {run(0, "full", nlohmann::json::array()), run(2, "full", {graze}),
                                            run(1, "no-col", {graze})};
   const std::string md = penetrationEventsSection(results, "full");
-  EXPECT_NE(md.find("| oa_dm4 | 2 | 14 | jw@20 | 4 | 16 | 0 | 4.64 |"), std::string::npos);
+  EXPECT_NE(md.find("| oa_dm4 | 2 | 14 | jw@20 | 4 | 3 | 16 | 0 | 4.64 |"), std::string::npos);
   EXPECT_EQ(md.find("| oa_dm4 | 1 |"), std::string::npos);  // another configuration
   EXPECT_EQ(md.find("written before"), std::string::npos);
   EXPECT_NE(penetrationEventsSection({run(0, "full", nlohmann::json::array())}, "full").find("None."),
@@ -191,9 +192,10 @@ TEST(EvalReport, PenetrationEventsSectionListsTheRunsEvents) {
   const std::string without = penetrationEventsSection({run(1, "no-col", {graze})}, "full");
   EXPECT_NE(without.find("No finished full runs."), std::string::npos);
   EXPECT_EQ(without.find("None."), std::string::npos);
-  // A hand-edited or truncated report: a non-string candidate, a non-object event.
+  // A hand-edited or truncated report: a non-string candidate, a non-object event; an
+  // event written before clip-only frames were counted shows "-" for them.
   const std::string odd = penetrationEventsSection({run(0, "full", {{{"candidate", 3}, {"frames", 2}}, 7})}, "full");
-  EXPECT_NE(odd.find("| oa_dm4 | 0 | 0 | ? | 2 | 0 | 0 | 0.00 |"), std::string::npos);
+  EXPECT_NE(odd.find("| oa_dm4 | 0 | 0 | ? | 2 | - | 0 | 0 | 0.00 |"), std::string::npos);
 }
 
 TEST(EvalReport, VerdictQualityStagesAndFindings) {
@@ -425,7 +427,7 @@ TEST(EvalReport, MalformedReportsAreFailedRowsWithTheirReason) {
   std::string line;
   std::getline(csv, line);  // header
   std::getline(csv, line);
-  EXPECT_EQ(line.substr(0, line.find('"')), "missing,0,full,0,,,,,,,,,,,,,,,,,,");  // blank, not 0
+  EXPECT_EQ(line.substr(0, line.find('"')), "missing,0,full,0,,,,,,,,,,,,,,,,,,,");  // blank, not 0
 }
 
 TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
@@ -447,12 +449,12 @@ TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
   EXPECT_DOUBLE_EQ(s[0].committed_steps, -1.0);
   EXPECT_EQ(s[0].observed_by_step, std::vector<double>{10.0});  // the bare run has no curve
   const std::string md = markdownReport(s, results, "cmd", "");
-  EXPECT_NE(md.find("| full | 2 | 1 | 10.0 | - | - | - | - | - | - | - | - | - | - | - | - | - | - | - |"),
+  EXPECT_NE(md.find("| full | 2 | 1 | 10.0 | - | - | - | - | - | - | - | - | - | - | - | - | - | - | - | - |"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("| m | 0 | full | - | - | - | - | - | - | - |"), std::string::npos);
-  EXPECT_NE(md.find("| m | 1 | full | 10.0 | - | - | - | - | - | - |"), std::string::npos);
-  EXPECT_NE(md.find("failed: /o/report.json: field 'x\"y\\|z' is null | | | | | | |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 0 | full | - | - | - | - | - | - | - | - |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 1 | full | 10.0 | - | - | - | - | - | - | - |"), std::string::npos);
+  EXPECT_NE(md.find("failed: /o/report.json: field 'x\"y\\|z' is null | | | | | | | |"), std::string::npos);
   EXPECT_NE(md.find("full: (not recorded) penetrating committed frames per run"), std::string::npos);
   EXPECT_EQ(findings(s, "full").size(), 1u);
   const std::string path = ::testing::TempDir() + "/valerant_blank_results.csv";
@@ -462,9 +464,9 @@ TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
   std::vector<std::string> lines;
   for (std::string line; std::getline(csv, line);) lines.push_back(line);
   ASSERT_EQ(lines.size(), 4u);
-  EXPECT_EQ(lines[1], "m,0,full,1,,,,,,,,,,,,,,,,,,\"\"");
-  EXPECT_EQ(lines[2], "m,1,full,1,,,10,,,,,,,,,,,,,,,\"\"");
-  EXPECT_EQ(lines[3], "m,2,full,0,,,,,,,,,,,,,,,,,,\"/o/report.json: field 'x\"\"y|z' is null\"");
+  EXPECT_EQ(lines[1], "m,0,full,1,,,,,,,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[2], "m,1,full,1,,,10,,,,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[3], "m,2,full,0,,,,,,,,,,,,,,,,,,,\"/o/report.json: field 'x\"\"y|z' is null\"");
   // A report of any shape that skipped readEvalResult still does not throw.
   EvalResult odd = bare;
   odd.report = nlohmann::json::array({1, 2});
@@ -474,7 +476,7 @@ TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
   EXPECT_NO_THROW(writeResultsCsv(path, {odd, odder}));
 }
 
-TEST(EvalReport, PenetrationsOutsideTheWorldAreAveragedAndListed) {
+TEST(EvalReport, PenetrationsOutsideTheWorldAndInClipsAreAveragedAndListed) {
   auto run = [](int spawn, nlohmann::json truth) {
     EvalResult r;
     r.run = {"m", spawn, "full", "/o"};
@@ -482,16 +484,24 @@ TEST(EvalReport, PenetrationsOutsideTheWorldAreAveragedAndListed) {
     r.report = {{"tool", "valerant_explore"}, {"ground_truth", truth}};
     return r;
   };
-  // 6 penetrating frames, 4 of them outside the world; 2 inside solid only; one older
-  // report that does not split them: the mean of the outside count is over two runs.
+  // 6 penetrating frames, 4 of them outside the world, 1 in a clip brush alone; 2 inside
+  // solid only, both in clips; one older report that does not split them: the means of
+  // the outside (2) and clip-only (1.5) counts are over two runs.
   const std::vector<EvalResult> results = {
-      run(0, {{"penetrations", 6}, {"penetrations_in_solid", 2}, {"penetrations_outside_world", 4}}),
-      run(1, {{"penetrations", 2}, {"penetrations_in_solid", 2}, {"penetrations_outside_world", 0}}),
+      run(0, {{"penetrations", 6},
+              {"penetrations_in_solid", 2},
+              {"penetrations_outside_world", 4},
+              {"penetrations_clip_only", 1}}),
+      run(1, {{"penetrations", 2},
+              {"penetrations_in_solid", 2},
+              {"penetrations_outside_world", 0},
+              {"penetrations_clip_only", 2}}),
       run(2, {{"penetrations", 1}})};
   const auto s = summarise(results, {"full"});
   EXPECT_DOUBLE_EQ(s[0].penetrations, 3.0);
   EXPECT_DOUBLE_EQ(s[0].penetrations_outside_world, 2.0);
+  EXPECT_DOUBLE_EQ(s[0].penetrations_clip_only, 1.5);
   const std::string md = markdownReport(s, results, "cmd", "");
-  EXPECT_NE(md.find("| m | 0 | full | - | - | - | 6 | 4 | - | - |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| m | 2 | full | - | - | - | 1 | - | - | - |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| m | 0 | full | - | - | - | 6 | 4 | 1 | - | - |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| m | 2 | full | - | - | - | 1 | - | - | - | - |"), std::string::npos) << md;
 }

@@ -30,6 +30,10 @@ struct EpisodeTruth {
   int penetrating_frames = 0;
   int penetrating_frames_in_solid = 0;       // ... whose player hull is inside solid
   int penetrating_frames_outside_world = 0;  // ... whose hull centre is outside the playable world
+  // ... whose only reason is a hull in player-clip brushes alone: volumes that stop the
+  // player but draw nothing, so no camera-based test can see them (kaos2 spawn 0 with
+  // the depth prior: every one of its 706 frames; docs/depth_prior.md).
+  int penetrating_frames_clip_only = 0;
   // In-solid frames of committed steps that a rewind later discarded: committed once,
   // so counted, but no longer part of the trajectory (or of penetrating_frames).
   int discarded_penetrating_frames = 0;
@@ -57,6 +61,7 @@ struct PenetrationCounts {
   int frames = 0;         // in_solid: the union of the two below
   int in_solid = 0;       // hull_in_solid
   int outside_world = 0;  // outside_world
+  int clip_only = 0;      // hull_in_clip_only and not outside_world: nothing visible entered
 };
 PenetrationCounts countPenetrations(const std::vector<FrameTruth>& truth);
 
@@ -72,6 +77,7 @@ struct PenetrationEvent {
   int frames = 0;             // its in-solid (penetrating) frames
   int frames_in_solid = 0;    // ... whose player hull is inside solid
   int frames_outside_world = 0;  // ... whose hull centre is outside the playable world
+  int frames_clip_only = 0;      // ... whose hull is in invisible player-clip brushes only
   int first_frame = 0;        // 0-based index of the first one within the step
   int occupied_max = 0;       // most points in the body cylinder at one sample (eq. 6)
   double min_near_ratio = 0;  // smallest central depth / camera height (eq. 7)

@@ -40,6 +40,7 @@ struct ConfigSummary {
   // Of the penetrations, the frames whose hull centre was outside the playable world
   // (the rest, and some of these, had the hull inside solid: episode_truth.h).
   double penetrations_outside_world = -1;
+  double penetrations_clip_only = -1;  // ... in invisible player-clip brushes only
   // In-solid frames of committed steps that a rewind later discarded.
   double discarded_penetrations = -1;
   double ate_percent = -1, accuracy_median_m = -1, completeness_percent = -1, wall_seconds = -1,

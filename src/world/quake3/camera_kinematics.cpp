@@ -84,6 +84,11 @@ bool CameraKinematics::hullInSolid(const CameraState& s) const {
   return collision_.boxInSolid(playerOrigin(s, hull_), hull_.mins, hull_.maxs);
 }
 
+bool CameraKinematics::hullInClipOnly(const CameraState& s) const {
+  const int contents = collision_.boxContents(playerOrigin(s, hull_), hull_.mins, hull_.maxs);
+  return (contents & kContentsPlayerClip) && !(contents & kContentsSolid);
+}
+
 Eigen::Vector3f CameraKinematics::hullCentre(const CameraState& s) const {
   return playerOrigin(s, hull_) + (hull_.mins + hull_.maxs) / 2;
 }

@@ -278,6 +278,16 @@ bool CollisionModel::boxInSolid(const Vector3f& center, const Vector3f& mins,
   });
 }
 
+int CollisionModel::boxContents(const Vector3f& center, const Vector3f& mins, const Vector3f& maxs) const {
+  const Eigen::AlignedBox3f box(center + mins, center + maxs);
+  int contents = 0;
+  forBrushesNear(box, [&](const ConvexBrush& brush) {
+    if (boxOverlapsBrush(brush, center, mins, maxs)) contents |= brush.contents;
+    return false;
+  });
+  return contents;
+}
+
 bool CollisionModel::pointInSolid(const Vector3f& p) const {
   return boxInSolid(p, Vector3f::Zero(), Vector3f::Zero());
 }

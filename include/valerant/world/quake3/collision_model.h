@@ -47,6 +47,9 @@ class CollisionModel {
   bool boxInSolid(const Eigen::Vector3f& center, const Eigen::Vector3f& mins,
                   const Eigen::Vector3f& maxs) const;
   bool pointInSolid(const Eigen::Vector3f& p) const;
+  // The contents bits (kContents*) of every brush the box overlaps, OR-ed; 0 when it
+  // overlaps none.
+  int boxContents(const Eigen::Vector3f& center, const Eigen::Vector3f& mins, const Eigen::Vector3f& maxs) const;
   // True when `p` lies outside the playable world (see PlayableWorld); never without one.
   bool pointOutsideWorld(const Eigen::Vector3f& p) const { return world_ && !world_->contains(p); }
   const std::optional<PlayableWorld>& playableWorld() const { return world_; }
