@@ -419,7 +419,7 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "none of whose frames entered solid. Penetrations count committed frames whose player hull is inside "
         "solid brushes or whose centre is outside the playable world (past the world's bounds, or in a BSP leaf "
         "with no cluster: through an outer wall); the next column counts the latter alone, the one after it "
-        "those whose hull is in player-clip brushes alone (they stop the player but draw nothing, so no camera "
+        "those whose hull is in nodraw player-clip brushes alone (they stop the player but draw nothing, so no camera "
         "sees them); discarded ones count those of committed steps that a later rewind threw away (they "
         "are not on the final trajectory, but the agent did commit them).\n\n"
      << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | "

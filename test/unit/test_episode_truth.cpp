@@ -213,40 +213,52 @@ TEST(EpisodeTruth, PenetrationEventsTellTheReasonsApart) {
   EXPECT_EQ(committedInSolidFrames(history), 4);
 }
 
-// A player-clip brush stops the player but draws nothing: a hull in it alone is in
-// solid, and its frame counts as clip-only; a hull that also touches a solid brush, or
-// whose centre is outside the world, does not. The world: a floor (top z = 0), clip C at
-// x in [100, 200] and solid D at x in [200, 300] (|y| <= 50, 128 high, side by side),
-// bounds x, y in [-512, 512]. The hull spans |x| <= 15 around the camera:
-//   (150, 0)  hull x in [135, 165], inside C only          -> in solid, clip only
-//   (200, 0)  hull x in [185, 215], in C and D             -> in solid, not clip only
-//   (250, 0)  hull x in [235, 265], inside D only          -> in solid, not clip only
-//   (0, 0)    open floor                                   -> neither
-// contents: C alone 0x10000, C and D 0x10001, D 0x1, the floor under it only touched: 0.
-TEST(EpisodeTruth, AHullInPlayerClipAloneIsAnInvisiblePenetration) {
+// A nodraw player-clip brush stops the player but draws nothing: a hull in it alone is
+// in solid, and its frame counts as clip-only; a hull that also touches a solid brush,
+// one in a drawn clip brush (a grate), or one whose centre is outside the world, does
+// not. The world: a floor (top z = 0), nodraw clip C at x in [100, 200] and solid D at
+// x in [200, 300] side by side, drawn clip G at x in [-200, -100] (all |y| <= 50, 128
+// high), bounds x, y in [-512, 512]. The hull spans |x| <= 15 around the camera:
+//   (150, 0)   hull x in [135, 165], inside C only        -> in solid, clip only
+//   (200, 0)   hull x in [185, 215], in C and D           -> in solid, not clip only
+//   (250, 0)   hull x in [235, 265], inside D only        -> in solid, not clip only
+//   (0, 0)     open floor                                 -> neither
+//   (-150, 0)  inside G only                              -> in solid, not clip only
+// Overlaps: C alone 0x10000 not drawn; C and D 0x10001 drawn (D); D 0x1 drawn; the floor
+// under the hull is only touched: 0; G 0x10000 drawn.
+TEST(EpisodeTruth, AHullInNodrawPlayerClipAloneIsAnInvisiblePenetration) {
   quake3::ConvexBrush clip = boxBrush({100, -50, 0}, {200, 50, 128});
   clip.contents = quake3::kContentsPlayerClip;
+  clip.drawn = false;
+  quake3::ConvexBrush grate = boxBrush({-200, -50, 0}, {-100, 50, 128});
+  grate.contents = quake3::kContentsPlayerClip;
   quake3::PlayableWorld world;
   world.bounds = Eigen::AlignedBox3f(Eigen::Vector3f(-512, -512, -16), Eigen::Vector3f(512, 512, 256));
   const quake3::CollisionModel model(
-      {boxBrush({-512, -512, -16}, {512, 512, 0}), clip, boxBrush({200, -50, 0}, {300, 50, 128})}, world);
+      {boxBrush({-512, -512, -16}, {512, 512, 0}), clip, boxBrush({200, -50, 0}, {300, 50, 128}), grate}, world);
   const Eigen::Vector3f mins(-15, -15, -24), maxs(15, 15, 32);
-  EXPECT_EQ(model.boxContents({150, 0, 24}, mins, maxs), quake3::kContentsPlayerClip);
-  EXPECT_EQ(model.boxContents({200, 0, 24}, mins, maxs), quake3::kContentsPlayerClip | quake3::kContentsSolid);
-  EXPECT_EQ(model.boxContents({250, 0, 24}, mins, maxs), quake3::kContentsSolid);
-  EXPECT_EQ(model.boxContents({0, 0, 24}, mins, maxs), 0);
+  auto overlap = [&](float x) {
+    const quake3::BoxOverlap o = model.boxOverlap({x, 0, 24}, mins, maxs);
+    return std::make_pair(o.contents, o.drawn);
+  };
+  EXPECT_EQ(overlap(150), std::make_pair(quake3::kContentsPlayerClip, false));
+  EXPECT_EQ(overlap(200), std::make_pair(quake3::kContentsPlayerClip | quake3::kContentsSolid, true));
+  EXPECT_EQ(overlap(250), std::make_pair(quake3::kContentsSolid, true));
+  EXPECT_EQ(overlap(0), std::make_pair(0, false));
+  EXPECT_EQ(overlap(-150), std::make_pair(quake3::kContentsPlayerClip, true));
 
   const quake3::CameraKinematics k(model, 50, 1024);
   const std::vector<FrameTruth> frames = {truthAt(k, 150, 0), truthAt(k, 200, 0), truthAt(k, 250, 0),
-                                          truthAt(k, 0, 0)};
-  const std::vector<std::array<bool, 2>> expected = {{true, true}, {true, false}, {true, false}, {false, false}};
+                                          truthAt(k, 0, 0), truthAt(k, -150, 0)};
+  const std::vector<std::array<bool, 2>> expected = {
+      {true, true}, {true, false}, {true, false}, {false, false}, {true, false}};
   for (size_t i = 0; i < frames.size(); ++i) {
     EXPECT_EQ(frames[i].in_solid, expected[i][0]) << "pose " << i;
     EXPECT_EQ(frames[i].hull_in_clip_only, expected[i][1]) << "pose " << i;
   }
   const PenetrationCounts counts = countPenetrations(frames);
-  EXPECT_EQ(counts.frames, 3);
-  EXPECT_EQ(counts.in_solid, 3);
+  EXPECT_EQ(counts.frames, 4);
+  EXPECT_EQ(counts.in_solid, 4);
   EXPECT_EQ(counts.clip_only, 1);
 
   // Clip-only counts the frames whose one reason is the invisible clip: a hull in clip

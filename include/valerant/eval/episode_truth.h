@@ -30,8 +30,8 @@ struct EpisodeTruth {
   int penetrating_frames = 0;
   int penetrating_frames_in_solid = 0;       // ... whose player hull is inside solid
   int penetrating_frames_outside_world = 0;  // ... whose hull centre is outside the playable world
-  // ... whose only reason is a hull in player-clip brushes alone: volumes that stop the
-  // player but draw nothing, so no camera-based test can see them (kaos2 spawn 0 with
+  // ... whose only reason is a hull in nodraw player-clip brushes alone: volumes that
+  // stop the player but draw nothing, so no camera-based test can see them (kaos2 spawn 0 with
   // the depth prior: every one of its 706 frames; docs/depth_prior.md).
   int penetrating_frames_clip_only = 0;
   // In-solid frames of committed steps that a rewind later discarded: committed once,

@@ -28,7 +28,7 @@ struct FrameTruth {
   bool in_solid = false;
   double floor_z = 0;                 // feet height the eye follows (game units)
   bool hull_in_solid = false;         // the player hull overlaps solid brushes
-  bool hull_in_clip_only = false;     // ... player-clip brushes only: invisible ones
+  bool hull_in_clip_only = false;     // ... nodraw player-clip brushes only: invisible
   bool outside_world = false;         // the hull's centre is outside the playable world
                                       // (walked through an outer wall into the void)
 };

@@ -85,8 +85,8 @@ bool CameraKinematics::hullInSolid(const CameraState& s) const {
 }
 
 bool CameraKinematics::hullInClipOnly(const CameraState& s) const {
-  const int contents = collision_.boxContents(playerOrigin(s, hull_), hull_.mins, hull_.maxs);
-  return (contents & kContentsPlayerClip) && !(contents & kContentsSolid);
+  const BoxOverlap o = collision_.boxOverlap(playerOrigin(s, hull_), hull_.mins, hull_.maxs);
+  return (o.contents & kContentsPlayerClip) && !(o.contents & kContentsSolid) && !o.drawn;
 }
 
 Eigen::Vector3f CameraKinematics::hullCentre(const CameraState& s) const {

@@ -184,7 +184,10 @@ void addPatchFacets(const BspMap& map, int contents_mask, std::vector<ConvexBrus
       const std::array<Vector3f, 3> triangle{mesh.vertices[mesh.indices[i]].position,
                                              mesh.vertices[mesh.indices[i + 1]].position,
                                              mesh.vertices[mesh.indices[i + 2]].position};
-      if (auto brush = facetBrush(triangle, shader.contents)) out.push_back(std::move(*brush));
+      if (auto brush = facetBrush(triangle, shader.contents)) {
+        brush->drawn = !(shader.surface_flags & kSurfNoDraw);
+        out.push_back(std::move(*brush));
+      }
     }
   }
 }
@@ -197,10 +200,11 @@ CollisionModel CollisionModel::fromBsp(const BspMap& map, int contents_mask) {
   const BspModel& world = map.models[0];
   for (int b = world.first_brush; b < world.first_brush + world.num_brushes; ++b) {
     const BspBrush& brush = map.brushes[b];
-    const int contents = map.shaders[brush.shader].contents;
-    if (!(contents & contents_mask)) continue;
+    const BspShader& shader = map.shaders[brush.shader];  // the shader that gives the contents
+    if (!(shader.contents & contents_mask)) continue;
     ConvexBrush convex;
-    convex.contents = contents;
+    convex.contents = shader.contents;
+    convex.drawn = !(shader.surface_flags & kSurfNoDraw);
     for (int s = brush.first_side; s < brush.first_side + brush.num_sides; ++s) {
       const BspPlane& plane = map.planes[map.brush_sides[s].plane];
       convex.planes.emplace_back(plane.normal.x(), plane.normal.y(), plane.normal.z(), plane.dist);
@@ -278,14 +282,17 @@ bool CollisionModel::boxInSolid(const Vector3f& center, const Vector3f& mins,
   });
 }
 
-int CollisionModel::boxContents(const Vector3f& center, const Vector3f& mins, const Vector3f& maxs) const {
+BoxOverlap CollisionModel::boxOverlap(const Vector3f& center, const Vector3f& mins, const Vector3f& maxs) const {
   const Eigen::AlignedBox3f box(center + mins, center + maxs);
-  int contents = 0;
+  BoxOverlap overlap;
   forBrushesNear(box, [&](const ConvexBrush& brush) {
-    if (boxOverlapsBrush(brush, center, mins, maxs)) contents |= brush.contents;
+    if (boxOverlapsBrush(brush, center, mins, maxs)) {
+      overlap.contents |= brush.contents;
+      overlap.drawn |= brush.drawn;
+    }
     return false;
   });
-  return contents;
+  return overlap;
 }
 
 bool CollisionModel::pointInSolid(const Vector3f& p) const {

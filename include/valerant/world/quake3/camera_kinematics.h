@@ -40,9 +40,10 @@ class CameraKinematics {
   bool inSolid(const CameraState& s) const { return hullInSolid(s) || outsideWorld(s); }
   // The player hull at this camera overlaps solid brushes.
   bool hullInSolid(const CameraState& s) const;
-  // The player hull overlaps player-clip brushes and nothing else solid: brushes with
-  // kContentsPlayerClip but not kContentsSolid, which stop the player but draw no
-  // surface (common/clip is nodraw), so no camera can see them.
+  // The player hull overlaps player-clip brushes and nothing else: brushes with
+  // kContentsPlayerClip but not kContentsSolid whose shader is nodraw (common/clip,
+  // full_clip, ...): they stop the player, and no camera can see them. Drawn clip
+  // brushes (grates, energy fields) are visible, so not clip-only.
   bool hullInClipOnly(const CameraState& s) const;
   // The centre of the player hull lies outside the playable world (a BSP leaf without a
   // cluster, or outside the world model's bounds): walked through an outer wall.

@@ -17,6 +17,14 @@ struct ConvexBrush {
   Eigen::AlignedBox3f bounds;           // set from the planes by CollisionModel, which
                                         // also adds missing axial bounding planes
   int contents = 0;
+  bool drawn = true;  // its shader draws a surface (not nodraw): a camera can see it
+};
+
+// What a box overlaps: the contents bits (kContents*) of every brush it is in, OR-ed
+// (0: none), and whether any of those brushes is drawn.
+struct BoxOverlap {
+  int contents = 0;
+  bool drawn = false;
 };
 
 // Where the playable world ends. A point is outside it when it lies outside the world
@@ -47,9 +55,7 @@ class CollisionModel {
   bool boxInSolid(const Eigen::Vector3f& center, const Eigen::Vector3f& mins,
                   const Eigen::Vector3f& maxs) const;
   bool pointInSolid(const Eigen::Vector3f& p) const;
-  // The contents bits (kContents*) of every brush the box overlaps, OR-ed; 0 when it
-  // overlaps none.
-  int boxContents(const Eigen::Vector3f& center, const Eigen::Vector3f& mins, const Eigen::Vector3f& maxs) const;
+  BoxOverlap boxOverlap(const Eigen::Vector3f& center, const Eigen::Vector3f& mins, const Eigen::Vector3f& maxs) const;
   // True when `p` lies outside the playable world (see PlayableWorld); never without one.
   bool pointOutsideWorld(const Eigen::Vector3f& p) const { return world_ && !world_->contains(p); }
   const std::optional<PlayableWorld>& playableWorld() const { return world_; }
