@@ -79,6 +79,10 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(paper_row.collision.previous_steps, paper_file.collision.previous_steps);
   EXPECT_EQ(paper_row.collision.prefix_commits, paper_file.collision.prefix_commits);
   EXPECT_EQ(paper_row.collision.step_height, paper_file.collision.step_height);
+  EXPECT_EQ(paper_row.slam.depth_prior, paper_file.slam.depth_prior);
+  EXPECT_EQ(paper_file.slam.depth_prior, "none");
+  EXPECT_EQ(full.slam.depth_prior, "learned");  // on by default since v9 (docs/depth_prior.md)
+  EXPECT_EQ(overridden("no-prior").slam.depth_prior, "none");
   EXPECT_DOUBLE_EQ(paper_file.collision.step_height, 0.0);
   EXPECT_FALSE(paper_file.collision.prefix_commits);
   EXPECT_EQ(paper_file.collision.previous_steps, 0);
