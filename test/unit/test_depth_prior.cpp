@@ -146,13 +146,13 @@ TEST(DepthPriorConfig, DefaultIsTheShippedPriorAndThePaperHasNone) {
   EXPECT_EQ(shipped.slam.depth_prior_model, "models/depth_prior.onnx");
   EXPECT_EQ(shipped.slam.depth_prior_width, 128);
   EXPECT_EQ(shipped.slam.depth_prior_height, 96);
-  // The shipped model loads from the source tree and answers at the net's size.
+  // The shipped model loads from the source tree and answers a camera frame.
   SlamConfig in_source = shipped.slam;
   in_source.depth_prior_model = std::string(VALERANT_SOURCE_DIR) + "/models/depth_prior.onnx";
   const auto prior = loadDepthPrior(in_source);
   ASSERT_NE(prior, nullptr);
   const DepthPrediction p = prior->predict(cv::Mat(240, 320, CV_8UC3, cv::Scalar(90, 100, 110)));
-  EXPECT_EQ(p.depth_m.size(), cv::Size(320, 240));
+  EXPECT_EQ(p.depth_m.size(), cv::Size(128, 96));  // the net's size; resized() gives the camera's
   EXPECT_GT(cv::mean(p.depth_m)[0], 0.1);
   const Config paper = loadConfig(std::string(VALERANT_SOURCE_DIR) + "/config/paper.yaml");
   EXPECT_EQ(paper.slam.depth_prior, "none");
