@@ -46,7 +46,8 @@ std::pair<cv::Mat, FrameTruth> Quake3World::renderClean(const CameraState& camer
   const RenderedView view = renderer_.render(truth.camera_to_world.cast<float>());
   truth.depth_m = view.depth / kUnitsPerMetre;
   truth.hull_in_solid = kinematics_.hullInSolid(camera);
-  truth.hull_in_clip_only = kinematics_.hullInClipOnly(camera);
+  // Clip-only implies an overlap: the second brush search runs only for frames in solid.
+  truth.hull_in_clip_only = truth.hull_in_solid && kinematics_.hullInClipOnly(camera);
   truth.outside_world = kinematics_.outsideWorld(camera);
   truth.in_solid = truth.hull_in_solid || truth.outside_world;
   truth.floor_z = camera.floor_z;
