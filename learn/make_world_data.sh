@@ -11,6 +11,7 @@
 # and with the last folder `start NAME MINUTES` instead of `stage` (options: see models/world_model.md).
 set -euo pipefail
 source "$(dirname "$0")/../scripts/env.sh"
+valerant_source_workspace  # the tool finds its default config through the sourced workspace
 tool="$VALERANT_BUILD/devel/lib/valerant/valerant_dataset"
 cd "$VALERANT_ROOT"
 sampling=(--walk-frames 64 --every 1 --shard-mib 58)

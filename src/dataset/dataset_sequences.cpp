@@ -1,6 +1,7 @@
 #include "valerant/dataset/dataset_sequences.h"
 
 #include "valerant/common/error.h"
+#include "valerant/dataset/near_wall_cells.h"
 
 namespace valerant::dataset {
 namespace {
@@ -51,6 +52,15 @@ std::vector<SequenceSpec> planSequences(const std::vector<quake3::CameraState>& 
     const quake3::CameraState start = randomCell(floor_cells, rng);
     out.push_back({"walk", -1, start, makeActionSequence(randomWalkKeys(params.walk_frames, rng), config),
                    params.walk_every});
+  }
+  if (params.wall_rotations > 0) {
+    std::vector<Eigen::Vector3f> near_wall;
+    for (size_t i : nearWallCells(floor_cells)) near_wall.push_back(floor_cells[i]);
+    for (int i = 0; i < params.wall_rotations && !near_wall.empty(); ++i) {
+      const quake3::CameraState start = randomCell(near_wall, rng);
+      const std::string keys = std::string(rng() % 2 ? "j:" : "l:") + std::to_string(turn_frames);
+      out.push_back({"rotate", -1, start, makeActionSequence(keys, config), params.rotation_every});
+    }
   }
   return out;
 }

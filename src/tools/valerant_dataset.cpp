@@ -12,7 +12,7 @@
 //
 //   valerant_dataset --out DIR [--split train|evaluation] [--maps A,B,...] [--exclude A,B]
 //                    [--seed N] [--width 128] [--height 96] [--spawns 3] [--rotations 12]
-//                    [--walks 12] [--walk-frames 48] [--every N] [--shard-mib 24]
+//                    [--walks 12] [--wall-rotations 0] [--walk-frames 48] [--every N] [--shard-mib 24]
 //                    [--in-solid skip|keep] [--config FILE]
 //                    [--set key=value ...] [--texture-shuffle P]
 //   valerant_dataset --list-maps [--split ...] [--maps ...] [--exclude ...]   (the maps, one a line)
@@ -112,6 +112,8 @@ int main(int argc, char** argv) {
   tools::addInteger(app, "--spawns", params.spawns, "spawns whose candidate rollouts are rendered, per map", 0);
   tools::addInteger(app, "--rotations", params.rotations, "turns in place from random reachable cells, per map", 0);
   tools::addInteger(app, "--walks", params.walks, "random walks from random reachable cells, per map", 0);
+  tools::addInteger(app, "--wall-rotations", params.wall_rotations,
+                    "turns in place from random reachable cells within 2 m of a wall, per map", 0);
   tools::addInteger(app, "--walk-frames", params.walk_frames, "frames of one random walk", 1);
   int every = 0;
   tools::addInteger(app, "--every", every,
@@ -142,8 +144,8 @@ int main(int argc, char** argv) {
                               "randomises training data only; an evaluation shard shows the maps as they are");
     if (out.empty()) throw tools::UsageError("--out", "is required");
     // Zero sequences of every kind would write no shard and still report success.
-    if (params.spawns == 0 && params.rotations == 0 && params.walks == 0)
-      throw tools::UsageError("--spawns 0 --rotations 0 --walks 0",
+    if (params.spawns == 0 && params.rotations == 0 && params.walks == 0 && params.wall_rotations == 0)
+      throw tools::UsageError("--spawns 0 --rotations 0 --walks 0 --wall-rotations 0",
                               "render nothing: give one of them a count");
     fs::create_directories(out);
 

@@ -352,7 +352,7 @@ class Faults(unittest.TestCase):
         status, _, err = run([tool("valerant_dataset"), "--maps", "oa_dm1", "--spawns", "0", "--rotations", "0",
                               "--walks", "0", "--out", out])
         self.assertEqual(status, USAGE_ERROR, err)
-        self.assertIn("--spawns 0 --rotations 0 --walks 0: render nothing", err)
+        self.assertIn("--spawns 0 --rotations 0 --walks 0 --wall-rotations 0: render nothing", err)
         self.assertFalse(os.path.exists(out))
 
     def test_truncated_config_is_an_error_naming_the_key(self):

@@ -18,6 +18,7 @@
 #include "valerant/dataset/dataset_render.h"
 #include "valerant/dataset/log_depth_code.h"
 #include "valerant/dataset/map_sets.h"
+#include "valerant/dataset/near_wall_cells.h"
 #include "valerant/dataset/shard_writer.h"
 #include "valerant/dataset/texture_shuffle.h"
 
@@ -181,6 +182,21 @@ TEST(DatasetRender, OneMapsSequencesStayOutOfSolidAndRepeat) {
                                                 });
   renderMapDataset(*map, "oa_dm1", config, params, 3, false, 0,
                    [&](const FrameRecord& r, const cv::Mat&, const cv::Mat&) { second.push_back(r); });
+  // A wall turn comes after the other kinds and leaves their frames as they were.
+  SamplingParams with_wall = params;
+  with_wall.wall_rotations = 1;
+  std::vector<FrameRecord> third;
+  const MapRenderStats wall_stats =
+      renderMapDataset(*map, "oa_dm1", config, with_wall, 3, false, 0,
+                       [&](const FrameRecord& r, const cv::Mat&, const cv::Mat&) { third.push_back(r); });
+  EXPECT_EQ(wall_stats.sequences, 5 + 1 + 2 + 1);
+  ASSERT_GT(third.size(), first.size());
+  for (size_t i = 0; i < first.size(); ++i) {
+    EXPECT_EQ(third[i].sequence, first[i].sequence);
+    EXPECT_EQ(third[i].yaw_deg, first[i].yaw_deg);
+  }
+  EXPECT_EQ(third.back().kind, "rotate");
+  EXPECT_EQ(third.back().sequence, 8);
   EXPECT_EQ(stats.sequences, 5 + 1 + 2);
   EXPECT_EQ(stats.frames, static_cast<int>(first.size()));
   EXPECT_EQ(sky_or_depth, stats.frames);
@@ -292,4 +308,45 @@ TEST(TextureShuffle, PoolAndShuffledFramesOfOneMap) {
     colour_change += cv::norm(own[i].rgb, shuffled[i].rgb, cv::NORM_L1) / own[i].rgb.total();
   }
   EXPECT_GT(colour_change / own.size(), 20.0);  // mean absolute change per pixel, summed over channels
+}
+
+TEST(NearWallCells, CellsWithinTheReachOfAWallOrAStepUp) {
+  // A 10 x 1 corridor of cells at z = 0 (x = 0, 16, ..., 144; y = 0), open at both ends
+  // only in the sense that nothing lies beyond: the columns x = -16 and x = 160 and
+  // every y = +-16 column are missing, so every cell has a wall within one cell along y.
+  std::vector<Eigen::Vector3f> corridor;
+  for (int i = 0; i < 10; ++i) corridor.emplace_back(16.f * i, 0.f, 0.f);
+  EXPECT_EQ(nearWallCells(corridor).size(), 10u);
+
+  // A 13 x 13 room (x, y = 0 .. 192) with walls only outside it: with max_cells 4 a cell
+  // is near when it is at most 4 cells from the edge, i.e. its index i or j is < 4 or
+  // > 8 (a wall at index -1 or 13 is within 4 cells of index 0..3 and 9..12). The far
+  // cells are the 5 x 5 block of indices 4..8: 169 - 25 = 144 near.
+  std::vector<Eigen::Vector3f> room;
+  for (int i = 0; i < 13; ++i)
+    for (int j = 0; j < 13; ++j) room.emplace_back(16.f * i, 16.f * j, 0.f);
+  const std::vector<size_t> near = nearWallCells(room);
+  EXPECT_EQ(near.size(), 144u);
+  for (size_t k : near) {
+    const int i = static_cast<int>(room[k].x() / 16.f), j = static_cast<int>(room[k].y() / 16.f);
+    EXPECT_TRUE(i < 4 || i > 8 || j < 4 || j > 8) << i << "," << j;
+  }
+
+  // The room's centre cell (6, 6) gets a neighbour column (7, 6) that is a 20-unit step
+  // up (higher than STEPSIZE 18: a wall from z = 0): the centre becomes near; a 16-unit
+  // step (a stair) or a drop to -100 would not make it near.
+  std::vector<Eigen::Vector3f> stepped = room;
+  for (Eigen::Vector3f& c : stepped)
+    if (c.x() == 112.f && c.y() == 96.f) c.z() = 20.f;
+  const auto centre_near = [](const std::vector<Eigen::Vector3f>& cells) {
+    const std::vector<size_t> n = nearWallCells(cells);
+    return std::any_of(n.begin(), n.end(), [&](size_t k) { return cells[k].x() == 96.f && cells[k].y() == 96.f; });
+  };
+  EXPECT_TRUE(centre_near(stepped));
+  for (Eigen::Vector3f& c : stepped)
+    if (c.x() == 112.f && c.y() == 96.f) c.z() = 16.f;
+  EXPECT_FALSE(centre_near(stepped));
+  for (Eigen::Vector3f& c : stepped)
+    if (c.x() == 112.f && c.y() == 96.f) c.z() = -100.f;
+  EXPECT_FALSE(centre_near(stepped));
 }

@@ -5,6 +5,8 @@
 //   rotate   a full turn in place (j or l) from a random reachable floor cell: the views
 //            the visual SLAM cannot triangulate
 //   walk     random key segments (w, jw, lw, j, l, a, d) from a random reachable cell
+//   rotate   (wall turns) a full turn in place from a random cell within 2 m of a wall
+//            (near_wall_cells.h), after the other kinds so they keep their frames
 // Each sequence keeps every `every`-th frame; a frame's key string says which keys
 // moved the camera since the previous kept frame, run-length coded with '+' between
 // runs ("jw:3+w:5"), so the data can also train an action-conditioned world model.
@@ -23,6 +25,7 @@ struct SamplingParams {
   int spawns = 3;          // spawns whose candidate rollouts are rendered
   int rotations = 12;      // turns in place from random reachable cells
   int walks = 12;          // random walks from random reachable cells
+  int wall_rotations = 0;  // turns in place from random cells near a wall
   int rollout_every = 8;   // keep every 8th rollout frame (57-97 frames: 8-13 kept)
   int rotation_every = 19; // a 90 deg turn takes horizon_frames (57) frames: 19 = 30 deg
   int walk_frames = 48;
