@@ -26,6 +26,7 @@ from valerant_learn.junit import run_smoke_test
 from valerant_learn.shards import load_shards, write_shard
 from valerant_learn.world_data import WorldWindows, motion_between, split_sequences, wrap_degrees
 from valerant_learn.world_metrics import horizon_table, psnr, ssim
+from valerant_learn.prior_depth import prior_depths
 from valerant_learn.pose_warp import PoseGeometry, advance_pose, depth_in_camera, pose_sampling, relative_transform
 from valerant_learn.world_net import WorldNet, apply_warp, input_name, rollout
 from valerant_learn.world_warp import AnchorState, anchor_step, pixel_grid, rotation_sampling
@@ -39,7 +40,7 @@ TRAIN_MAP, VAL_MAP = "synth_train", "synth_val"
 TURN_DEG_PER_FRAME = 1.6
 
 
-def panorama_shard(path, map_name, sequences, length, seed, meta=CAMERA):
+def panorama_shard(path, map_name, sequences, length, seed):
     """Sequences of a camera turning left over a random panorama: frame t is the
     window starting t pixels further left (so each frame shifts the image right by
     one pixel), yaw up TURN_DEG_PER_FRAME a frame; the last sequence also walks."""
@@ -56,22 +57,16 @@ def panorama_shard(path, map_name, sequences, length, seed, meta=CAMERA):
                            "x": 0.1 * t * (s == sequences - 1), "y": 0.0, "z": 1.5625,
                            "yaw_deg": TURN_DEG_PER_FRAME * t, "pitch_deg": 0.0, "in_solid": 0})
     depth = np.full((len(rgbs), HEIGHT, WIDTH), 5.0, dtype=np.float32)
-    write_shard(path, np.stack(rgbs), depth, frames, meta)
+    write_shard(path, np.stack(rgbs), depth, frames, CAMERA)
 
 
 def setUpModule():
-    global WORK, TRAIN_SHARD, VAL_SHARD, PRIOR_TRAIN_SHARD, PRIOR_VAL_SHARD
+    global WORK, TRAIN_SHARD, VAL_SHARD
     WORK = tempfile.mkdtemp(prefix="valerant_wm_smoke_")
     TRAIN_SHARD = os.path.join(WORK, "train.zip")
     VAL_SHARD = os.path.join(WORK, "val.zip")
     panorama_shard(TRAIN_SHARD, TRAIN_MAP, 3, 12, seed=1)
     panorama_shard(VAL_SHARD, VAL_MAP, 2, 10, seed=2)
-    # The same frames as if prior_depth_shards.py had given them a depth prior's depth.
-    PRIOR_TRAIN_SHARD = os.path.join(WORK, "prior_train.zip")
-    PRIOR_VAL_SHARD = os.path.join(WORK, "prior_val.zip")
-    prior = dict(CAMERA, depth_source="depth_prior:test")
-    panorama_shard(PRIOR_TRAIN_SHARD, TRAIN_MAP, 3, 12, seed=1, meta=prior)
-    panorama_shard(PRIOR_VAL_SHARD, VAL_MAP, 2, 10, seed=2, meta=prior)
 
 
 def tearDownModule():
@@ -303,23 +298,13 @@ class PoseAnchorWarpTest(unittest.TestCase):
         torch.testing.assert_close(geometry.depth, torch.tensor([[[[80.0, 0.05]]]]))
 
 
-class PriorDepthShardsTest(unittest.TestCase):
-    def test_the_depth_is_the_priors_and_marked_so(self):
+class PriorDepthTest(unittest.TestCase):
+    def test_threads_give_each_frames_depth(self):
         model = os.path.join(HERE, "..", "models", "depth_prior.onnx")
-        out = os.path.join(WORK, "prior")
-        run = subprocess.run([sys.executable, os.path.join(HERE, "prior_depth_shards.py"), "--model", model,
-                              "--out-dir", out, TRAIN_SHARD], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                             universal_newlines=True, timeout=120)
-        self.assertEqual(run.returncode, 0, run.stdout)
-        path = os.path.join(out, "train.zip")
-        with self.assertRaisesRegex(ValueError, "its depth is 'depth_prior:[0-9a-f]{64}', expected 'engine'"):
-            load_shards([path])
-        converted, original = load_shards([path], expected_depth_source=None), load_shards([TRAIN_SHARD])
-        np.testing.assert_array_equal(converted["rgb"], original["rgb"])
+        rgb = load_shards([TRAIN_SHARD])["rgb"][:3]
         net = cv2.dnn.readNetFromONNX(model)
-        net.setInput(cv2.dnn.blobFromImage(original["rgb"][5], 1.0 / 255.0, swapRB=False, crop=False))
-        # The log16 code's relative step is 1.3e-4.
-        np.testing.assert_allclose(converted["depth"][5], np.exp(net.forward()[0, 0]), rtol=2e-4)
+        net.setInput(cv2.dnn.blobFromImage(rgb[2], 1.0 / 255.0, swapRB=False, crop=False))
+        np.testing.assert_allclose(prior_depths(model, rgb, 2)[2], np.exp(net.forward()[0, 0]), rtol=1e-5)
 
 
 class MetricsTest(unittest.TestCase):
@@ -446,25 +431,26 @@ class TrainWorldModelTest(unittest.TestCase):
 
     def test_pose_anchor_end_to_end_on_cpu(self):
         out = os.path.join(WORK, "pose")
-        run = self.train("pose", ["--val", PRIOR_VAL_SHARD, "--full-res-head", "--warp", "pose_anchor"],
-                         PRIOR_TRAIN_SHARD)
+        run = self.train("pose", ["--val", VAL_SHARD, "--full-res-head", "--warp", "pose_anchor"])
         self.assertEqual(run.returncode, 0, run.stdout)
+        self.assertIn("depth prior", run.stdout)
         with open(os.path.join(out, "metrics.json")) as handle:
             metrics = json.load(handle)
-        self.assertEqual((metrics["warp"], metrics["depth_source"]), ("pose_anchor", "depth_prior:test"))
+        self.assertEqual(metrics["warp"], "pose_anchor")
+        self.assertEqual(len(metrics["depth_prior_sha256"]), 64)
         self.assertLess(metrics["onnx_check"]["max_abs_diff"], 1e-3)
         self.assertEqual([i.name for i in onnx.load(os.path.join(out, "world_model.onnx")).graph.input],
                          ["frames_motion_and_pose_warp"])
 
-    def test_pose_anchor_refuses_the_engines_depth(self):
-        run = self.train("pose_engine", ["--val", VAL_SHARD, "--warp", "pose_anchor"])
+    def test_pose_anchor_without_the_prior_file(self):
+        run = self.train("pose_no_prior", ["--val", VAL_SHARD, "--warp", "pose_anchor", "--depth-prior",
+                                           os.path.join(WORK, "missing.onnx")])
         self.assertNotEqual(run.returncode, 0)
-        self.assertIn("--train shards hold the depth of 'engine'; the pose_anchor warp needs the depth prior's",
-                      run.stdout)
+        self.assertIn("--depth-prior %s: no such file" % os.path.join(WORK, "missing.onnx"), run.stdout)
 
-    def train(self, name, options, train_shard=None):
+    def train(self, name, options):
         env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")
-        command = [sys.executable, os.path.join(HERE, "train_world_model.py"), "--train", train_shard or TRAIN_SHARD,
+        command = [sys.executable, os.path.join(HERE, "train_world_model.py"), "--train", TRAIN_SHARD,
                    "--out", os.path.join(WORK, name), "--steps", "4", "--batch", "2", "--eval-every", "2",
                    "--unroll", "2", "--late-unroll", "3", "--device", "cpu", "--workers", "1"] + options
         return subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,

@@ -57,7 +57,7 @@ def write_part(source, path, meta, rows, first, last):
 
 def split_shard(path, parts, out_dir):
     """Writes the parts; returns their paths. Raises ValueError on a bad shard."""
-    load_shards([path], expected_depth_source=None)  # checks every entry before anything is written
+    load_shards([path])  # checks every entry before anything is written
     with zipfile.ZipFile(path) as source:
         meta = json.loads(source.read("meta.json"))
         rows = list(csv.reader(io.StringIO(source.read("frames.csv").decode())))[1:]

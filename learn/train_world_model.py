@@ -30,7 +30,8 @@ import time
 import numpy as np
 import torch
 
-from valerant_learn.shards import DEPTH_PRIOR_SOURCE, check_same_camera, load_shards
+from valerant_learn.prior_depth import prior_depths
+from valerant_learn.shards import check_same_camera, load_shards
 from valerant_learn.training import device_name, expand_globs, learning_rate, pick_device, sha256
 from valerant_learn.world_data import WorldWindows
 from valerant_learn.world_export import export_world_onnx
@@ -43,6 +44,7 @@ WEIGHT_DECAY = 0.01
 GRAD_CLIP_NORM = 1.0
 SSIM_WEIGHT = 0.2
 VAL_WINDOWS = 256
+DEFAULT_DEPTH_PRIOR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "depth_prior.onnx")
 LOG_COLUMNS = ["step", "seconds", "unroll", "train_loss", "val_l1"] + [
     "val_psnr_%d" % h for h in HORIZONS]
 
@@ -69,8 +71,12 @@ def parse_args(argv):
                         help="how a frame is made from the net's output (valerant_learn/world_warp.py): "
                              "last_frame (models v1, v2), rotation_anchor (the commanded rotation exact, "
                              "pixels sampled once from an anchor frame) or pose_anchor (the commanded turn and "
-                             "translation exact through each pixel's depth: needs shards whose depth is the "
-                             "depth prior's, prior_depth_shards.py)")
+                             "translation exact through each pixel's depth, the anchors' first depth the "
+                             "--depth-prior's)")
+    parser.add_argument("--depth-prior", default=DEFAULT_DEPTH_PRIOR, metavar="ONNX",
+                        help="pose_anchor: the depth prior whose depth of each window's newest context frame "
+                             "starts its anchor, as the C++ backend's world.learned.depth_prior_model does "
+                             "(default: the shipped models/depth_prior.onnx)")
     parser.add_argument("--gradient-weight", type=float, default=0.0,
                         help="weight of the image-gradient difference term of the loss (against blur)")
     parser.add_argument("--seed", type=int, default=0)
@@ -82,7 +88,7 @@ def parse_args(argv):
                         help="on CUDA: fp32, or bf16 autocast, which diverged here within 100 steps "
                              "(models/world_model.md); the CPU always runs fp32")
     parser.add_argument("--workers", type=int, default=min(8, os.cpu_count() or 1),
-                        help="threads decoding the shards' images")
+                        help="threads decoding the shards' images (and, for pose_anchor, running the depth prior)")
     parser.add_argument("--max-val-rollouts", type=int, default=50,
                         help="candidate rollouts of --val measured at the horizons")
     args = parser.parse_args(argv)
@@ -103,19 +109,19 @@ def parse_args(argv):
 
 
 def load_data(args):
-    """The train and val shards. pose_anchor's anchors start at the depth the C++ backend
-    has, the depth prior's, so its shards must carry that (prior_depth_shards.py); the
-    other warps read no depth and take any shards."""
-    train = load_shards(expand_globs(args.train, "--train"), args.workers, expected_depth_source=None)
-    val = load_shards(expand_globs(args.val, "--val"), args.workers, expected_depth_source=None)
+    """The train and val shards. For pose_anchor their "depth" becomes the depth prior's
+    (the shards' true depth is never read): the C++ backend starts its anchors from the
+    prior's depth of the start frame, so the training does too."""
+    train = load_shards(expand_globs(args.train, "--train"), args.workers)
+    val = load_shards(expand_globs(args.val, "--val"), args.workers)
     if args.warp == "pose_anchor":
-        for name, data in (("--train", train), ("--val", val)):
-            if not data["meta"]["depth_source"].startswith(DEPTH_PRIOR_SOURCE):
-                raise ValueError("%s shards hold the depth of %r; the pose_anchor warp needs the depth prior's "
-                                 "(learn/prior_depth_shards.py)" % (name, data["meta"]["depth_source"]))
-        if train["meta"]["depth_source"] != val["meta"]["depth_source"]:
-            raise ValueError("--train depth is %r, --val %r: one depth prior for both"
-                             % (train["meta"]["depth_source"], val["meta"]["depth_source"]))
+        if not os.path.isfile(args.depth_prior):
+            raise ValueError("--depth-prior %s: no such file" % args.depth_prior)
+        start = time.time()
+        for data in (train, val):
+            data["depth"] = prior_depths(args.depth_prior, data["rgb"], args.workers)
+        print("depth prior %s on %d frames: %.0f s" % (args.depth_prior, len(train["rgb"]) + len(val["rgb"]),
+                                                      time.time() - start), flush=True)
     shared = sorted(set(train["meta"]["maps"]) & set(val["meta"]["maps"]))
     if shared:
         raise ValueError("val maps overlap train maps: %s (val must measure maps the net never saw)"
@@ -352,7 +358,7 @@ def main(argv=None):
         "late_unroll": args.late_unroll,
         "full_res_head": args.full_res_head,
         "warp": args.warp,
-        "depth_source": train_data["meta"]["depth_source"] if args.warp == "pose_anchor" else None,
+        "depth_prior_sha256": sha256(args.depth_prior) if args.warp == "pose_anchor" else None,
         "gradient_weight": args.gradient_weight,
         "input_width": meta["width"],
         "input_height": meta["height"],

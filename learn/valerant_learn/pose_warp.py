@@ -37,8 +37,6 @@ position inside the image; rays behind the newest camera are parked at its centr
 
 depth_in_camera: a pixel's depth in a camera of the anchor's rollout, from the anchor's
 depth at the pixel's anchor coordinates and the two poses."""
-import math
-
 import torch
 
 from .bilinear import pixel_grid, sample
@@ -141,9 +139,9 @@ class PoseGeometry:
 
     @staticmethod
     def start(depth, camera):
-        """The geometry of an anchor seen at `depth` [N,1,H,W] (NaN, a missing true depth,
-        is the sky), both poses the first anchor's (zeros)."""
-        depth = torch.nan_to_num(depth, nan=SKY_DEPTH_M).clamp(min=MIN_DEPTH_M)
+        """The geometry of an anchor seen at `depth` [N,1,H,W] (not finite, as a missing
+        true depth's NaN: the sky; at least MIN_DEPTH_M), both poses the first anchor's (zeros)."""
+        depth = torch.nan_to_num(depth, nan=SKY_DEPTH_M, posinf=SKY_DEPTH_M, neginf=SKY_DEPTH_M).clamp(min=MIN_DEPTH_M)
         zero = torch.zeros(depth.shape[0], 4, device=depth.device, dtype=depth.dtype)
         return PoseGeometry(depth, zero, zero, camera)
 

@@ -1,11 +1,7 @@
 """Reading (and, for tests, writing) the dataset shards that `valerant_dataset` writes.
 
 A shard is a zip holding meta.json, frames.csv, rgb/%06d.jpg and depth/%06d.png
-(16-bit log16 codes, see log16.py). The depth is the engine's unless meta.json's
-optional depth_source says otherwise: "depth_prior:<sha256 of the ONNX file>" for a copy
-whose depth is the depth prior's prediction (prior_depth_shards.py, the world model's
-pose_anchor warp); load_shards() refuses a source its caller did not ask for, so a
-prior's depth is never trained on as truth. load_shards() checks every entry and raises a
+(16-bit log16 codes, see log16.py). load_shards() checks every entry and raises a
 ValueError naming the shard and the entry on anything malformed, so a bad shard
 stops training at once instead of silently feeding it garbage."""
 import concurrent.futures
@@ -33,13 +29,6 @@ STR_COLUMNS = ("map", "kind", "key")
 # at one height over the floor.
 CAMERA_KEYS = ("width", "height", "fx", "fy", "cx", "cy", "eye_height_m", "depth_min_m", "depth_max_m")
 REQUIRED_META = ("format", "depth_encoding", "maps") + CAMERA_KEYS
-ENGINE_DEPTH = "engine"
-DEPTH_PRIOR_SOURCE = "depth_prior:"  # + the model file's sha256
-
-
-def depth_source(meta):
-    """meta.json's depth_source, "engine" when absent."""
-    return meta.get("depth_source", ENGINE_DEPTH)
 
 
 def rgb_name(index):
@@ -164,13 +153,12 @@ def check_same_camera(first_path, first, path, meta):
             raise ValueError("%s: %s is %r but %s has %r" % (path, key, meta[key], first_path, first[key]))
 
 
-def load_shards(paths, workers=1, expected_depth_source=ENGINE_DEPTH):
+def load_shards(paths, workers=1):
     """Loads shards into memory. Returns a dict of per-frame numpy arrays
     ('rgb' uint8 N×H×W×3 RGB, 'depth' float32 N×H×W metres with NaN for sky,
     'shard', 'index' and every frames.csv column) plus 'meta': the camera and
-    depth-encoding fields the shards share, 'depth_source', 'maps' (sorted, as present
-    in frames) and 'shards' (the paths). Every shard's depth_source must be
-    expected_depth_source; with None any one source, the same in every shard."""
+    depth-encoding fields the shards share, 'maps' (sorted, as present in
+    frames) and 'shards' (the paths)."""
     paths = list(paths)
     if not paths:
         raise ValueError("no shards given")
@@ -179,18 +167,13 @@ def load_shards(paths, workers=1, expected_depth_source=ENGINE_DEPTH):
         for path in paths:
             parts.append((path,) + _read_shard(path, pool))
     first_path, first_meta = parts[0][0], parts[0][1]
-    for path, meta, _, _, _ in parts:
+    for path, meta, _, _, _ in parts[1:]:
         check_same_camera(first_path, first_meta, path, meta)
-        wanted = depth_source(first_meta) if expected_depth_source is None else expected_depth_source
-        if depth_source(meta) != wanted:
-            raise ValueError("%s: its depth is %r, expected %r%s" % (
-                path, depth_source(meta), wanted, "" if expected_depth_source is not None else " as in " + first_path))
     data = {name: np.concatenate([np.asarray(part[2][name]) for part in parts]) for name in FRAME_COLUMNS}
     data["shard"] = np.concatenate([np.full(len(part[2]["index"]), part[0]) for part in parts])
     data["rgb"] = np.concatenate([part[3] for part in parts])
     data["depth"] = np.concatenate([part[4] for part in parts])
     meta = {key: first_meta[key] for key in ("format", "depth_encoding") + CAMERA_KEYS}
-    meta["depth_source"] = depth_source(first_meta)
     meta["maps"] = sorted(set(data["map"].tolist()))
     meta["shards"] = paths
     data["meta"] = meta
