@@ -247,6 +247,21 @@ class PoseAnchorWarpTest(unittest.TestCase):
         torch.testing.assert_close(positions[0, 0, 10, :3], torch.tensor([8.0, 9.0, 10.0], dtype=torch.float64))
         self.assertEqual((float(in_view[0, 0, 10, 119]), float(in_view[0, 0, 10, 120])), (1.0, 0.0))
 
+    def test_a_turn_then_a_step(self):
+        # 129 x 97 pixels, the axis at pixel (64, 48). 20 deg left, then 16 units (0.5 m)
+        # along the new heading: the camera at (0.5 cos 20, 0.5 sin 20) = (0.46985, 0.17101)
+        # m, its axis (cos 20, sin 20) meets the wall x = 2 m after (2 - 0.46985) / cos 20 =
+        # 1.62836 m, at y = 0.17101 + 1.62836 sin 20 = 0.72794 m: in the newest camera 0.72794
+        # m to the left at depth 2, so pixel (64, 48) samples u = 64 - 64 * 0.72794 / 2 =
+        # 40.7059, v = 48.
+        camera = {"fx": 64.0, "fy": 64.0, "cx": 64.5, "cy": 48.5}
+        wall = torch.full((1, 1, 97, 129), 2.0, dtype=torch.float64)
+        positions, in_view = pose_sampling(wall, self.START, advance_pose(self.START, self.motion(16.0, yaw=20.0)),
+                                           camera)
+        self.assertAlmostEqual(float(positions[0, 0, 48, 64]), 40.7059, places=4)
+        self.assertAlmostEqual(float(positions[0, 1, 48, 64]), 48.0, places=9)
+        self.assertEqual(float(in_view[0, 0, 48, 64]), 1.0)
+
     def test_the_floor_converges_in_three_iterations(self):
         # The floor 1.5625 m below a level camera: row v has depth h fy / (v + 0.5 - 48).
         # 4.5 units (0.140625 m) forward, the next frame's bottom row (a = 95 + 0.5 - 48 =

@@ -90,6 +90,24 @@ TEST(PoseSampling, AStrafeAlongAWall) {
   EXPECT_EQ(s.in_view.at<float>(10, 120), 0.f);
 }
 
+TEST(PoseSampling, ATurnThenAStep) {
+  // 129 x 97 pixels, the axis at pixel (64, 48). 20 deg left, then 16 units (0.5 m) along
+  // the new heading: the camera at (0.5 cos 20, 0.5 sin 20) = (0.46985, 0.17101) m, its
+  // axis (cos 20, sin 20) meets the wall x = 2 m after (2 - 0.46985) / cos 20 = 1.62836 m,
+  // at y = 0.17101 + 1.62836 sin 20 = 0.72794 m: in the newest camera 0.72794 m to the
+  // left at depth 2, so pixel (64, 48) samples u = 64 - 64 * 0.72794 / 2 = 40.7059, v = 48.
+  CameraIntrinsics camera = kCamera;
+  camera.width = 129;
+  camera.height = 97;
+  camera.cx = 64.5;
+  camera.cy = 48.5;
+  const cv::Mat wall(97, 129, CV_32F, cv::Scalar(2));
+  const WarpSampling s = poseSampling(wall, CameraPose{}, advancePose(CameraPose{}, motion(16, 0, 20)), camera);
+  EXPECT_NEAR(s.positions.at<cv::Vec2f>(48, 64)[0], 40.7059, 1e-4);
+  EXPECT_NEAR(s.positions.at<cv::Vec2f>(48, 64)[1], 48.0, 1e-5);
+  EXPECT_EQ(s.in_view.at<float>(48, 64), 1.f);
+}
+
 TEST(PoseSampling, TheFloorConvergesInThreeIterations) {
   // The floor 1.5625 m below a level camera: row v has depth h fy / (v + 0.5 - 48).
   // 4.5 units (0.140625 m) forward, the next frame's bottom row (a = 95 + 0.5 - 48 = 47.5)
