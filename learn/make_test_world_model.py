@@ -25,6 +25,11 @@ in-view mask): flow 0, mask = 1 - strafe_units, fill = the turned newest frame (
 16..18). So a turn without strafe is the rotation warp alone, worked out by hand in the
 tests, and a strafe of 1 returns the turned frame as the net read it.
 
+world_model_pose.onnx is world_model_anchor.onnx for the pose_anchor warp: the same
+weights over the same planes (the newest frame moved by the commanded turn and
+translation through its depth, and that warp's in-view mask), its input named
+"frames_motion_and_pose_warp" as a pose_anchor model's is.
+
 Uses only onnx (Debian python3-onnx), no torch. Opset 11, as the real model's export.
 
   /usr/bin/python3 learn/make_test_world_model.py [--out-dir test/data]"""
@@ -36,6 +41,7 @@ import onnx
 from onnx import TensorProto, helper, numpy_helper
 
 INPUT_NAME = "frames_and_motion"
+POSE_ANCHOR_INPUT_NAME = "frames_motion_and_pose_warp"
 OUTPUT_NAME = "warp_and_fill"
 HEIGHT, WIDTH = 96, 128
 CONTEXT_FRAMES = 4
@@ -71,17 +77,17 @@ def anchor_weights_and_biases():
     return weights, biases
 
 
-def build_model(channels, weights_and_biases=weights_and_biases, name="world_model_shift"):
-    """The 1x1 convolution's first `channels` output channels."""
+def build_model(channels, weights_and_biases=weights_and_biases, name="world_model_shift", input_name=INPUT_NAME):
+    """The 1x1 convolution's first `channels` output channels, reading the input `input_name`."""
     weights, biases = weights_and_biases()
     inputs = weights.shape[1]
     weight = numpy_helper.from_array(weights[:channels].reshape(channels, inputs, 1, 1), "conv_weight")
     bias = numpy_helper.from_array(biases[:channels], "conv_bias")
-    conv = helper.make_node("Conv", [INPUT_NAME, "conv_weight", "conv_bias"], [OUTPUT_NAME],
+    conv = helper.make_node("Conv", [input_name, "conv_weight", "conv_bias"], [OUTPUT_NAME],
                             kernel_shape=[1, 1])
     graph = helper.make_graph(
         [conv], name,
-        [helper.make_tensor_value_info(INPUT_NAME, TensorProto.FLOAT, [1, inputs, HEIGHT, WIDTH])],
+        [helper.make_tensor_value_info(input_name, TensorProto.FLOAT, [1, inputs, HEIGHT, WIDTH])],
         [helper.make_tensor_value_info(OUTPUT_NAME, TensorProto.FLOAT, [1, channels, HEIGHT, WIDTH])],
         initializer=[weight, bias])
     model = helper.make_model(graph, producer_name="valerant make_test_world_model.py",
@@ -98,7 +104,9 @@ def main():
     os.makedirs(args.out_dir, exist_ok=True)
     for name, model in (("world_model_shift.onnx", build_model(6)),
                         ("world_model_five_channels.onnx", build_model(5)),
-                        ("world_model_anchor.onnx", build_model(6, anchor_weights_and_biases, "world_model_anchor"))):
+                        ("world_model_anchor.onnx", build_model(6, anchor_weights_and_biases, "world_model_anchor")),
+                        ("world_model_pose.onnx", build_model(6, anchor_weights_and_biases, "world_model_pose",
+                                                              POSE_ANCHOR_INPUT_NAME))):
         path = os.path.join(args.out_dir, name)
         onnx.save(model, path)
         print("wrote %s (%d bytes)" % (path, os.path.getsize(path)))

@@ -1,38 +1,24 @@
 #!/usr/bin/env bash
-# Renders the world model's data set (models/world_model.md) into data/ (git-ignored):
+# Renders the world model's data set (models/world_model.md) into data/wm (git-ignored):
 # consecutive frames (--every 1) of the five candidates from one spawn, one full turn
-# in place and five 64-frame random walks per training map, and the same from two
-# spawns and two walks per evaluation map; then cuts the training shards into parts
-# and packs them into data/wmc1 .. data/wmc7, one folder per call to the GPU host
-# (each under 52 MiB, which leaves room for the working tree in a call's 64 MiB).
-#   learn/make_world_data.sh            (about 10 minutes on 2 cores)
+# in place and five 64-frame random walks per training map (data/wm/train_wm), and the
+# same from two spawns and two walks per evaluation map (data/wm/eval); then packs them
+# into data/wm_parts/pNN, one folder per call to the GPU host (learn/pack_parts.py;
+# 27 MiB leaves room for the working tree, 35 MiB, in a call's 64 MiB). The pose_anchor warp's
+# depth prior runs at load on the GPU host (valerant_learn/prior_depth.py), not here.
+#   learn/make_world_data.sh            (about 12 minutes on 2 cores)
 # Then, on the GPU host, one call per folder, back to back:
-#   DATA=data/wmcN VDATA=/root/wmdata RUNS=/root/wm_runs TRAINER=train_world_model.py learn/gpu_train.sh stage
-# and with the last folder `start NAME MINUTES` instead of `stage` (options: see models/world_model.md).
+#   DATA=data/wm_parts/pNN VDATA=/root/wmdata RUNS=/root/wm_runs TRAINER=train_world_model.py learn/gpu_train.sh stage
+# and with the last folder `start NAME MINUTES` instead of `stage` (options: docs/world_model.md).
 set -euo pipefail
 source "$(dirname "$0")/../scripts/env.sh"
 valerant_source_workspace  # the tool finds its default config through the sourced workspace
 tool="$VALERANT_BUILD/devel/lib/valerant/valerant_dataset"
 cd "$VALERANT_ROOT"
 sampling=(--walk-frames 64 --every 1 --shard-mib 58)
-"$tool" --split train --spawns 1 --rotations 1 --walks 5 --seed 11 "${sampling[@]}" --out data/wm_train > data/wm_train.json
-"$tool" --split evaluation --spawns 2 --walks 2 --seed 12 --rotations 0 "${sampling[@]}" --out data/wm_eval \
-  > data/wm_eval.json
-parts=data/wm_parts
-for shard in data/wm_train/train-00[0-3].zip; do /usr/bin/python3 learn/split_shard.py "$shard" --parts 3 --out-dir $parts; done
-pack() {  # pack FOLDER FILE...: hard links, so the parts are stored once
-  mkdir -p "data/$1"
-  local folder=$1
-  shift
-  ln -f "$@" "data/$folder/"
-}
-rm -rf data/wmc[0-9]
-pack wmc1/eval data/wm_eval/evaluation-000.zip
-pack wmc1/train_a $parts/train-000-0.zip
-pack wmc2/train_b $parts/train-002-1.zip $parts/train-002-2.zip
-pack wmc3/train_c $parts/train-000-1.zip $parts/train-003-2.zip
-pack wmc4/train_d $parts/train-000-2.zip $parts/train-001-2.zip
-pack wmc5/train_e $parts/train-001-0.zip $parts/train-002-0.zip
-pack wmc6/train_f $parts/train-001-1.zip $parts/train-003-0.zip
-pack wmc7/train_g $parts/train-003-1.zip data/wm_train/train-004.zip
-du -sh data/wmc[0-9]
+mkdir -p data/wm
+"$tool" --split train --spawns 1 --rotations 1 --walks 5 --seed 11 "${sampling[@]}" --out data/wm/train_wm \
+  > data/wm/train_wm.json
+"$tool" --split evaluation --spawns 2 --walks 2 --seed 12 --rotations 0 "${sampling[@]}" --out data/wm/eval \
+  > data/wm/eval.json
+/usr/bin/python3 learn/pack_parts.py --limit-mib 27 --out data/wm_parts data/wm/train_wm data/wm/eval

@@ -17,6 +17,7 @@ import unittest
 
 import cv2
 import numpy as np
+import onnx
 import torch
 
 import train_world_model
@@ -25,7 +26,9 @@ from valerant_learn.junit import run_smoke_test
 from valerant_learn.shards import load_shards, write_shard
 from valerant_learn.world_data import WorldWindows, motion_between, split_sequences, wrap_degrees
 from valerant_learn.world_metrics import horizon_table, psnr, ssim
-from valerant_learn.world_net import WorldNet, apply_warp, rollout
+from valerant_learn.prior_depth import prior_depths
+from valerant_learn.pose_warp import PoseGeometry, advance_pose, depth_in_camera, pose_sampling, relative_transform
+from valerant_learn.world_net import WorldNet, apply_warp, input_name, rollout
 from valerant_learn.world_warp import AnchorState, anchor_step, pixel_grid, rotation_sampling
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -191,6 +194,134 @@ class RotationAnchorWarpTest(unittest.TestCase):
         self.assertEqual(float(state.valid.min()), 1.0)
 
 
+class PoseAnchorWarpTest(unittest.TestCase):
+    # 90 deg field of view at 128 x 96, principal point at the image centre (corner
+    # convention): pixel index x has the ray x' = (x + 0.5 - 64) / 64, so the optical
+    # axis lies at index 63.5, 47.5.
+    CAMERA = {"fx": 64.0, "fy": 64.0, "cx": 64.0, "cy": 48.0}
+    START = torch.zeros(1, 4, dtype=torch.float64)
+
+    @staticmethod
+    def motion(forward=0.0, strafe=0.0, yaw=0.0, pitch=0.0):
+        return torch.tensor([[forward, strafe, yaw, pitch]], dtype=torch.float64)
+
+    def test_the_engine_turns_then_moves_along_the_new_heading(self):
+        # 90 deg left, then 32 units (1 m) forward: the heading is +y, so the camera ends at
+        # (0, 1); then 32 units of strafe to the right of +y, which is +x: (1, 1).
+        turned = advance_pose(self.START, self.motion(forward=32.0, yaw=90.0))
+        torch.testing.assert_close(turned, torch.tensor([[0.0, 1.0, 90.0, 0.0]], dtype=torch.float64))
+        torch.testing.assert_close(advance_pose(turned, self.motion(strafe=32.0)),
+                                   torch.tensor([[1.0, 1.0, 90.0, 0.0]], dtype=torch.float64))
+
+    def test_relative_transform(self):
+        # A camera 1 m ahead sees at depth 2 what the start camera sees at depth 3; one
+        # turned 90 deg left sees straight ahead what lies 1 m to the start camera's left
+        # (optical x = -1).
+        ahead = torch.tensor([[1.0, 0.0, 0.0, 0.0]], dtype=torch.float64)
+        r, t = relative_transform(self.START, ahead)
+        torch.testing.assert_close(r[0] @ torch.tensor([0.0, 0.0, 2.0], dtype=torch.float64) + t[0],
+                                   torch.tensor([0.0, 0.0, 3.0], dtype=torch.float64))
+        left = torch.tensor([[0.0, 0.0, 90.0, 0.0]], dtype=torch.float64)
+        r, t = relative_transform(self.START, left)
+        torch.testing.assert_close(r[0] @ torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64) + t[0],
+                                   torch.tensor([-1.0, 0.0, 0.0], dtype=torch.float64))
+
+    def sampling(self, depth, motion):
+        return pose_sampling(depth, self.START, advance_pose(self.START, motion), self.CAMERA)
+
+    def test_a_step_towards_a_wall(self):
+        # A wall 2 m ahead, 16 units (0.5 m) forward: the next camera sees it at 1.5 m, so
+        # pixel p samples the newest frame at 63.5 + (p - 63.5) * 1.5 / 2 (rows about 47.5):
+        # (127, 95) at (111.125, 83.125), every position inside the image.
+        wall = torch.full((1, 1, 96, 128), 2.0, dtype=torch.float64)
+        positions, in_view = self.sampling(wall, self.motion(forward=16.0))
+        torch.testing.assert_close(positions[0, :, 95, 127], torch.tensor([111.125, 83.125], dtype=torch.float64))
+        torch.testing.assert_close(positions[0, :, 0, 0], torch.tensor([15.875, 11.875], dtype=torch.float64))
+        self.assertEqual(float(in_view.min()), 1.0)
+
+    def test_a_strafe_along_a_wall(self):
+        # 8 units (0.25 m) to the right, the wall at 2 m: every pixel samples 64 * 0.25 / 2
+        # = 8 pixels to its right, and the last 8 columns leave the newest image.
+        wall = torch.full((1, 1, 96, 128), 2.0, dtype=torch.float64)
+        positions, in_view = self.sampling(wall, self.motion(strafe=8.0))
+        torch.testing.assert_close(positions[0, 0, 10, :3], torch.tensor([8.0, 9.0, 10.0], dtype=torch.float64))
+        self.assertEqual((float(in_view[0, 0, 10, 119]), float(in_view[0, 0, 10, 120])), (1.0, 0.0))
+
+    def test_a_turn_then_a_step(self):
+        # 129 x 97 pixels, the axis at pixel (64, 48). 20 deg left, then 16 units (0.5 m)
+        # along the new heading: the camera at (0.5 cos 20, 0.5 sin 20) = (0.46985, 0.17101)
+        # m, its axis (cos 20, sin 20) meets the wall x = 2 m after (2 - 0.46985) / cos 20 =
+        # 1.62836 m, at y = 0.17101 + 1.62836 sin 20 = 0.72794 m: in the newest camera 0.72794
+        # m to the left at depth 2, so pixel (64, 48) samples u = 64 - 64 * 0.72794 / 2 =
+        # 40.7059, v = 48.
+        camera = {"fx": 64.0, "fy": 64.0, "cx": 64.5, "cy": 48.5}
+        wall = torch.full((1, 1, 97, 129), 2.0, dtype=torch.float64)
+        positions, in_view = pose_sampling(wall, self.START, advance_pose(self.START, self.motion(16.0, yaw=20.0)),
+                                           camera)
+        self.assertAlmostEqual(float(positions[0, 0, 48, 64]), 40.7059, places=4)
+        self.assertAlmostEqual(float(positions[0, 1, 48, 64]), 48.0, places=9)
+        self.assertEqual(float(in_view[0, 0, 48, 64]), 1.0)
+
+    def test_the_floor_converges_in_three_iterations(self):
+        # The floor 1.5625 m below a level camera: row v has depth h fy / (v + 0.5 - 48).
+        # 4.5 units (0.140625 m) forward, the next frame's bottom row (a = 95 + 0.5 - 48 =
+        # 47.5) sees the floor point whose row u (from the axis) solves u = a (1 - f / Z(u))
+        # = a (1 - f u / (h fy)): u = a / (1 + a f / (h fy)) = 47.5 / 1.066796875 = 44.5258,
+        # index 92.0258. From the rotation's guess (index 95) the error shrinks by
+        # a f / (h fy) = 0.0668 an iteration: 2.97 * 0.0668^3 = 0.0009 px after three.
+        rows = torch.arange(96, dtype=torch.float64).view(1, 1, 96, 1).expand(1, 1, 96, 128)
+        floor = torch.where(rows > 47, 1.5625 * 64 / (rows + 0.5 - 48).clamp(min=0.5), torch.full_like(rows, 80.0))
+        positions, _ = self.sampling(floor, self.motion(forward=4.5))
+        self.assertAlmostEqual(float(positions[0, 1, 95, 64]), 47.5 + 47.5 / 1.066796875, delta=0.0015)
+
+    def test_the_turn_alone_is_the_rotation_warp(self):
+        depth = 1.0 + 5.0 * torch.rand(1, 1, 96, 128, dtype=torch.float64)
+        motion = self.motion(yaw=7.0, pitch=-3.0)
+        positions, in_view = self.sampling(depth, motion)
+        rotation, rotation_in_view = rotation_sampling(motion, self.CAMERA, 96, 128)
+        torch.testing.assert_close(positions, rotation)
+        torch.testing.assert_close(in_view, rotation_in_view)
+
+    def test_depth_in_camera_after_a_step(self):
+        # Anchor pixel (64, 48) at depth 2 m (ray x' = 0.5 / 64), the camera 0.5 m ahead:
+        # depth 1.5 m; a quarter turn left: the point lies 2 m to that camera's right and
+        # 0.5 / 64 * 2 = 0.015625 m behind it, its depth clamped to 0.05.
+        depth = torch.full((1, 1, 96, 128), 2.0, dtype=torch.float64)
+        coords = pixel_grid(96, 128, "cpu", torch.float64)[None]
+        ahead = torch.tensor([[0.5, 0.0, 0.0, 0.0]], dtype=torch.float64)
+        self.assertAlmostEqual(float(depth_in_camera(depth, coords, self.START, ahead, self.CAMERA)[0, 0, 48, 64]),
+                               1.5, places=12)
+        turned = torch.tensor([[0.0, 0.0, 90.0, 0.0]], dtype=torch.float64)
+        self.assertAlmostEqual(float(depth_in_camera(depth, coords, self.START, turned, self.CAMERA)[0, 0, 48, 64]),
+                               0.05, places=12)
+
+    def test_a_filled_frame_becomes_the_anchor_with_its_depth_carried(self):
+        # The wall at 2 m, 16 units forward, everything filled: the new anchor is the fill,
+        # its pose (0.5, 0), its depth the wall's from there, 1.5 m.
+        frame = torch.rand(1, 3, 96, 128, dtype=torch.float64)
+        state = AnchorState.start(frame, torch.full((1, 1, 96, 128), 2.0, dtype=torch.float64), self.CAMERA)
+        positions, _, moved = state.geometry.sampling(state.coords, self.motion(forward=16.0))
+        fill = torch.full_like(frame, 0.3)
+        _, state = anchor_step(state, frame, positions, torch.zeros_like(frame[:, :1]), fill, moved)
+        torch.testing.assert_close(state.anchor, fill)
+        torch.testing.assert_close(state.geometry.anchor_pose, torch.tensor([[0.5, 0.0, 0.0, 0.0]],
+                                                                            dtype=torch.float64))
+        torch.testing.assert_close(state.geometry.depth, torch.full((1, 1, 96, 128), 1.5, dtype=torch.float64))
+
+    def test_a_missing_depth_is_the_sky(self):
+        geometry = PoseGeometry.start(torch.tensor([[[[float("nan"), 0.01]]]]), self.CAMERA)
+        torch.testing.assert_close(geometry.depth, torch.tensor([[[[80.0, 0.05]]]]))
+
+
+class PriorDepthTest(unittest.TestCase):
+    def test_threads_give_each_frames_depth(self):
+        model = os.path.join(HERE, "..", "models", "depth_prior.onnx")
+        rgb = load_shards([TRAIN_SHARD])["rgb"][:3]
+        net = cv2.dnn.readNetFromONNX(model)
+        net.setInput(cv2.dnn.blobFromImage(rgb[2], 1.0 / 255.0, swapRB=False, crop=False))
+        np.testing.assert_allclose(prior_depths(model, rgb, 2)[2], np.exp(net.forward()[0, 0]), rtol=1e-5)
+
+
 class MetricsTest(unittest.TestCase):
     def test_psnr_of_a_uniform_error(self):
         # Every pixel off by 0.1: MSE 0.01, PSNR 10 log10(1 / 0.01) = 20 dB.
@@ -236,6 +367,18 @@ class WorldNetTest(unittest.TestCase):
         with torch.no_grad():
             frames = rollout(model, torch.rand(1, 2, 3, 32, 48), torch.tensor([[[0.0, 0.0, 1.6, 0.0]] * 3]), camera)
         self.assertEqual(tuple(frames.shape), (1, 3, 3, 32, 48))
+
+    def test_pose_anchor_rollout(self):
+        model = WorldNet(2, 32, 48, full_res_head=True, warp="pose_anchor").eval()
+        camera = {"fx": 24.0, "fy": 24.0, "cx": 24.0, "cy": 16.0}
+        context, motions = torch.rand(1, 2, 3, 32, 48), torch.tensor([[[4.5, 0.0, 1.6, 0.0]] * 3])
+        with torch.no_grad():
+            frames = rollout(model, context, motions, camera, torch.full((1, 1, 32, 48), 3.0))
+        self.assertEqual(tuple(frames.shape), (1, 3, 3, 32, 48))
+        with self.assertRaisesRegex(ValueError, "pose_anchor warp needs the depth"):
+            rollout(model, context, motions, camera)
+        self.assertEqual(input_name("pose_anchor"), "frames_motion_and_pose_warp")
+        self.assertEqual(input_name("rotation_anchor"), "frames_and_motion")
 
     def test_rejects_a_size_not_a_multiple_of_16(self):
         with self.assertRaises(ValueError):
@@ -300,6 +443,25 @@ class TrainWorldModelTest(unittest.TestCase):
         self.assertEqual(metrics["warp"], "rotation_anchor")
         self.assertLess(metrics["onnx_check"]["max_abs_diff"], 1e-3)
         self.assertEqual(metrics["onnx_check"]["inputs"], 2)
+
+    def test_pose_anchor_end_to_end_on_cpu(self):
+        out = os.path.join(WORK, "pose")
+        run = self.train("pose", ["--val", VAL_SHARD, "--full-res-head", "--warp", "pose_anchor"])
+        self.assertEqual(run.returncode, 0, run.stdout)
+        self.assertIn("depth prior", run.stdout)
+        with open(os.path.join(out, "metrics.json")) as handle:
+            metrics = json.load(handle)
+        self.assertEqual(metrics["warp"], "pose_anchor")
+        self.assertEqual(len(metrics["depth_prior_sha256"]), 64)
+        self.assertLess(metrics["onnx_check"]["max_abs_diff"], 1e-3)
+        self.assertEqual([i.name for i in onnx.load(os.path.join(out, "world_model.onnx")).graph.input],
+                         ["frames_motion_and_pose_warp"])
+
+    def test_pose_anchor_without_the_prior_file(self):
+        run = self.train("pose_no_prior", ["--val", VAL_SHARD, "--warp", "pose_anchor", "--depth-prior",
+                                           os.path.join(WORK, "missing.onnx")])
+        self.assertNotEqual(run.returncode, 0)
+        self.assertIn("--depth-prior %s: no such file" % os.path.join(WORK, "missing.onnx"), run.stdout)
 
     def train(self, name, options):
         env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")

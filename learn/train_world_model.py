@@ -30,12 +30,13 @@ import time
 import numpy as np
 import torch
 
+from valerant_learn.prior_depth import prior_depths
 from valerant_learn.shards import check_same_camera, load_shards
 from valerant_learn.training import device_name, expand_globs, learning_rate, pick_device, sha256
 from valerant_learn.world_data import WorldWindows
 from valerant_learn.world_export import export_world_onnx
 from valerant_learn.world_metrics import HORIZONS, horizon_table, ssim
-from valerant_learn.world_net import WorldNet, net_input, rollout
+from valerant_learn.world_net import WorldNet, net_input, rollout, start_state
 from valerant_learn.world_warp import WARPS
 from valerant_learn.world_plots import plot_world_curves, plot_rollouts
 
@@ -43,6 +44,7 @@ WEIGHT_DECAY = 0.01
 GRAD_CLIP_NORM = 1.0
 SSIM_WEIGHT = 0.2
 VAL_WINDOWS = 256
+DEFAULT_DEPTH_PRIOR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "depth_prior.onnx")
 LOG_COLUMNS = ["step", "seconds", "unroll", "train_loss", "val_l1"] + [
     "val_psnr_%d" % h for h in HORIZONS]
 
@@ -67,8 +69,14 @@ def parse_args(argv):
                         help="the net's head at full resolution, seeing the newest frame (world_net.py)")
     parser.add_argument("--warp", choices=WARPS, default="last_frame",
                         help="how a frame is made from the net's output (valerant_learn/world_warp.py): "
-                             "last_frame (models v1, v2) or rotation_anchor (the commanded rotation exact, "
-                             "pixels sampled once from an anchor frame)")
+                             "last_frame (models v1, v2), rotation_anchor (the commanded rotation exact, "
+                             "pixels sampled once from an anchor frame) or pose_anchor (the commanded turn and "
+                             "translation exact through each pixel's depth, the anchors' first depth the "
+                             "--depth-prior's)")
+    parser.add_argument("--depth-prior", default=DEFAULT_DEPTH_PRIOR, metavar="ONNX",
+                        help="pose_anchor: the depth prior whose depth of each window's newest context frame "
+                             "starts its anchor, as the C++ backend's world.learned.depth_prior_model does "
+                             "(default: the shipped models/depth_prior.onnx)")
     parser.add_argument("--gradient-weight", type=float, default=0.0,
                         help="weight of the image-gradient difference term of the loss (against blur)")
     parser.add_argument("--seed", type=int, default=0)
@@ -80,7 +88,7 @@ def parse_args(argv):
                         help="on CUDA: fp32, or bf16 autocast, which diverged here within 100 steps "
                              "(models/world_model.md); the CPU always runs fp32")
     parser.add_argument("--workers", type=int, default=min(8, os.cpu_count() or 1),
-                        help="threads decoding the shards' images")
+                        help="threads decoding the shards' images (and, for pose_anchor, running the depth prior)")
     parser.add_argument("--max-val-rollouts", type=int, default=50,
                         help="candidate rollouts of --val measured at the horizons")
     args = parser.parse_args(argv)
@@ -101,8 +109,19 @@ def parse_args(argv):
 
 
 def load_data(args):
+    """The train and val shards. For pose_anchor their "depth" becomes the depth prior's
+    (the shards' true depth is never read): the C++ backend starts its anchors from the
+    prior's depth of the start frame, so the training does too."""
     train = load_shards(expand_globs(args.train, "--train"), args.workers)
     val = load_shards(expand_globs(args.val, "--val"), args.workers)
+    if args.warp == "pose_anchor":
+        if not os.path.isfile(args.depth_prior):
+            raise ValueError("--depth-prior %s: no such file" % args.depth_prior)
+        start = time.time()
+        for data in (train, val):
+            data["depth"] = prior_depths(args.depth_prior, data["rgb"], args.workers)
+        print("depth prior %s on %d frames: %.0f s" % (args.depth_prior, len(train["rgb"]) + len(val["rgb"]),
+                                                      time.time() - start), flush=True)
     shared = sorted(set(train["meta"]["maps"]) & set(val["meta"]["maps"]))
     if shared:
         raise ValueError("val maps overlap train maps: %s (val must measure maps the net never saw)"
@@ -151,15 +170,20 @@ def gradient_difference(predicted, true):
     return dx.abs().mean() + dy.abs().mean()
 
 
-def window_loss(model, rgb, table, picks, flip, camera, gradient_weight=0.0):
+def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_weight=0.0):
+    """depth: float [N,H,W] metres of every frame (pose_anchor), else None."""
     context = as_frames(rgb[table.context[picks]])
     targets = as_frames(rgb[table.targets[picks]])
     motions = table.motions[picks]
+    anchor_depth = None if depth is None else depth[table.context[picks, -1]][:, None]
     if flip is not None:
         flipped = mirror(context[flip], targets[flip], motions[flip])
         context, targets, motions = context.clone(), targets.clone(), motions.clone()
         context[flip], targets[flip], motions[flip] = flipped
-    predicted = rollout(model, context, motions, camera).float()
+        if anchor_depth is not None:
+            anchor_depth = anchor_depth.clone()
+            anchor_depth[flip] = anchor_depth[flip].flip(-1)
+    predicted = rollout(model, context, motions, camera, anchor_depth).float()
     n, t = predicted.shape[:2]
     flat_pred, flat_true = predicted.reshape(n * t, *predicted.shape[2:]), targets.reshape(n * t, *targets.shape[2:])
     l1 = (flat_pred - flat_true).abs().mean()
@@ -178,30 +202,35 @@ def val_rollouts(windows, limit):
     return chosen
 
 
-def generate(model, windows, run_index, device, camera):
+def generate(model, windows, run_index, device, camera, depth=None):
     """The model's frames for a whole run from its first frame (context: that frame
-    repeated): float [T,3,H,W] on the CPU, T = run length - 1."""
+    repeated; depth: pose_anchor's tensor [N,H,W] of every frame's depth on the device):
+    float [T,3,H,W] on the CPU, T = run length - 1."""
     run = windows.runs[run_index]
     first = as_frames(torch.from_numpy(windows.rgb[run[0]]).to(device))
     context = first[None, None].expand(1, windows.context, *first.shape).contiguous()
     motions = torch.from_numpy(windows.motions[run_index][1:]).to(device)[None]
+    first_depth = None if depth is None else depth[int(run[0])][None, None]
     with torch.no_grad():
-        return rollout(model, context, motions, camera)[0].float().cpu()
+        return rollout(model, context, motions, camera, first_depth)[0].float().cpu()
 
 
-def measure_horizons(model, windows, runs, device, camera):
+def measure_horizons(model, windows, runs, device, camera, depth=None):
     """horizon_table() of the model and both baselines over `runs`."""
     model.eval()
     entries = []
     for r in runs:
         run = windows.runs[r]
         truth = as_frames(torch.from_numpy(windows.rgb[run[1:]]))
-        entries.append((generate(model, windows, r, device, camera), truth, as_frames(torch.from_numpy(windows.rgb[run[0]]))))
+        entries.append((generate(model, windows, r, device, camera, depth), truth,
+                        as_frames(torch.from_numpy(windows.rgb[run[0]]))))
     model.train()
     return horizon_table(entries)
 
 
-def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, out_dir, camera):
+def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, device, out_dir, camera):
+    """depth: {"train", "val"}: tensors [N,H,W] of every frame's depth on the device for
+    pose_anchor, else None."""
     decay = [p for p in model.parameters() if p.ndim > 1 and p.requires_grad]
     no_decay = [p for p in model.parameters() if p.ndim <= 1]
     optimizer = torch.optim.AdamW([{"params": decay, "weight_decay": WEIGHT_DECAY},
@@ -219,9 +248,9 @@ def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, ou
             nonlocal loss_sum, loss_steps
             model.eval()
             with torch.no_grad():
-                _, val_l1 = window_loss(model, rgb["val"], val_table, val_picks, None, camera)
+                _, val_l1 = window_loss(model, rgb["val"], val_table, val_picks, None, camera, depth["val"])
             model.train()
-            table = measure_horizons(model, windows_val, val_runs, device, camera)
+            table = measure_horizons(model, windows_val, val_runs, device, camera, depth["val"])
             row = {"step": step, "seconds": round(time.time() - start, 2), "unroll": unroll,
                    "train_loss": float(loss_sum) / max(1, loss_steps), "val_l1": float(val_l1)}
             row.update({"val_psnr_%d" % h: table[str(h)]["model"]["psnr"] for h in HORIZONS})
@@ -249,7 +278,8 @@ def train(model, rgb, tables, val_table, windows_val, val_runs, args, device, ou
             flip = torch.rand(args.batch, generator=generator, device=device) < 0.5
             with torch.autocast(device_type=device.type, dtype=torch.bfloat16,
                                 enabled=device.type == "cuda" and args.precision == "bf16"):
-                loss, _ = window_loss(model, rgb["train"], table, picks, flip, camera, args.gradient_weight)
+                loss, _ = window_loss(model, rgb["train"], table, picks, flip, camera, depth["train"],
+                                      args.gradient_weight)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
@@ -299,16 +329,22 @@ def main(argv=None):
     print("model: %d parameters; device %s" % (parameters, device_name(device)), flush=True)
     model = model.to(device)
     rgb = {"train": torch.from_numpy(train_data["rgb"]).to(device), "val": torch.from_numpy(val_data["rgb"]).to(device)}
+    # Only pose_anchor reads depth: its anchors start at the newest context frame's.
+    depth = {name: torch.from_numpy(data["depth"]).to(device) if args.warp == "pose_anchor" else None
+             for name, data in (("train", train_data), ("val", val_data))}
     val_runs = val_rollouts(windows["val"], args.max_val_rollouts)
 
-    rows, steps, seconds = train(model, rgb, tables, val_table, windows["val"], val_runs, args, device, args.out,
-                                 camera)
+    rows, steps, seconds = train(model, rgb, depth, tables, val_table, windows["val"], val_runs, args, device,
+                                 args.out, camera)
 
-    horizons = measure_horizons(model, windows["val"], val_runs, device, camera)
+    horizons = measure_horizons(model, windows["val"], val_runs, device, camera, depth["val"])
     onnx_path = os.path.join(args.out, "world_model.onnx")
     model.eval()
     with torch.no_grad():
-        verify, _ = net_input(model, as_frames(rgb["val"][val_table.context[:2]]), val_table.motions[:2, 0], camera)
+        context = as_frames(rgb["val"][val_table.context[:2]])
+        verify_depth = None if depth["val"] is None else depth["val"][val_table.context[:2, -1]][:, None]
+        verify, _, _ = net_input(model, context, val_table.motions[:2, 0], camera,
+                                 start_state(model, context, camera, verify_depth))
     onnx_report = export_world_onnx(model, onnx_path, verify.cpu().numpy(), {
         "train_maps": ",".join(meta["maps"]), "fx": meta["fx"], "fy": meta["fy"], "cx": meta["cx"], "cy": meta["cy"]})
     print("exported %s; cv2.dnn vs torch max |diff| %.2e" % (onnx_path, onnx_report["max_abs_diff"]), flush=True)
@@ -322,6 +358,7 @@ def main(argv=None):
         "late_unroll": args.late_unroll,
         "full_res_head": args.full_res_head,
         "warp": args.warp,
+        "depth_prior_sha256": sha256(args.depth_prior) if args.warp == "pose_anchor" else None,
         "gradient_weight": args.gradient_weight,
         "input_width": meta["width"],
         "input_height": meta["height"],
@@ -349,7 +386,7 @@ def main(argv=None):
     plot_world_curves(rows, os.path.join(args.out, "curves.png"))
     samples = val_runs[:: max(1, len(val_runs) // 4)][:4]
     model.eval()
-    plot_rollouts([(windows["val"].maps[r], generate(model, windows["val"], r, device, camera),
+    plot_rollouts([(windows["val"].maps[r], generate(model, windows["val"], r, device, camera, depth["val"]),
                     as_frames(torch.from_numpy(windows["val"].rgb[windows["val"].runs[r][1:]]))) for r in samples],
                   os.path.join(args.out, "rollouts.png"))
     print("done: %d steps in %.0f s; PSNR model/repeat/flat %s; wrote %s" % (

@@ -13,7 +13,7 @@ import torch
 
 from .depth_net import fold_batchnorm
 from .onnx_export import OPSET, inline_initializer_identities, save_checked
-from .world_net import INPUT_NAME, OUTPUT_NAME, input_channels
+from .world_net import OUTPUT_NAME, input_channels, input_name
 
 FORMAT_VERSION = "valerant-world-model-1"
 # Largest |cv2.dnn - torch| accepted on any output channel (flow in pixels, the rest in [0,1]).
@@ -27,7 +27,8 @@ def _torch_export(model, channels):
         options["dynamo"] = False
     buffer = io.BytesIO()
     torch.onnx.export(model, torch.zeros(1, channels, model.height, model.width), buffer, opset_version=OPSET,
-                      input_names=[INPUT_NAME], output_names=[OUTPUT_NAME], do_constant_folding=True, **options)
+                      input_names=[input_name(model.warp)], output_names=[OUTPUT_NAME], do_constant_folding=True,
+                      **options)
     return onnx.load_model_from_string(buffer.getvalue())
 
 
@@ -58,14 +59,16 @@ def export_world_onnx(model, path, inputs, metadata):
     folded = fold_batchnorm(model)
     channels = input_channels(model)
     extra = {"last_frame": "", "rotation_anchor": ", then the newest frame turned by the commanded rotation (RGB) "
-             "and that rotation's in-view mask"}[model.warp]
+             "and that rotation's in-view mask",
+             "pose_anchor": ", then the newest frame sampled where the commanded turn and translation send each "
+             "pixel through its depth (RGB) and the in-view mask"}[model.warp]
     proto = _torch_export(folded, channels)
     removed = inline_initializer_identities(proto.graph)
     properties = {
         "format": FORMAT_VERSION,
         "input": "%s: float32 [1,%d,%d,%d]: %d RGB frames in [0,1], oldest first, then 4 constant planes of "
                  "the motion (forward_units, strafe_units, yaw_deg, pitch_deg)%s"
-                 % (INPUT_NAME, channels, model.height, model.width, model.context, extra),
+                 % (input_name(model.warp), channels, model.height, model.width, model.context, extra),
         "output": "%s: float32 [1,6,%d,%d]: dx, dy (pixels), mask, fill RGB; next = mask * warped + (1 - mask) "
                   "* fill, warped as world_warp.py's %s warp says" % (OUTPUT_NAME, model.height, model.width,
                                                                      model.warp),

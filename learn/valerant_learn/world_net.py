@@ -12,14 +12,17 @@ flow field in pixels), a mask, and a fill colour for what the warp cannot show
 The warp is done outside the net (apply_warp here in training, cv::remap in C++),
 because OpenCV 4.6's ONNX importer has no GridSample.
 
-Input "frames_and_motion": float32 [N, 3K+4+E, H, W]: K RGB frames in [0,1], oldest
-first, then four constant planes of the commanded motion (forward_units,
-strafe_units, yaw_deg, pitch_deg; raw MotionStep values, scaled inside the net), then
-E extra planes of the warp interface (world_warp.py: none for last_frame; for
-rotation_anchor the newest frame turned by the commanded rotation, RGB, and that
-rotation's in-view mask).
+Input "frames_and_motion" ("frames_motion_and_pose_warp" with the pose_anchor warp, so
+that a backend configured for another warp cannot run the model by mistake): float32
+[N, 3K+4+E, H, W]: K RGB frames in [0,1], oldest first, then four constant planes of
+the commanded motion (forward_units, strafe_units, yaw_deg, pitch_deg; raw MotionStep
+values, scaled inside the net), then E extra planes of the warp interface
+(world_warp.py: none for last_frame; for rotation_anchor the newest frame turned by the
+commanded rotation, RGB, and that rotation's in-view mask; for pose_anchor the newest
+frame sampled where the commanded turn and translation send each pixel, and its in-view
+mask).
 Output "warp_and_fill": float32 [N, 6, H, W]: dx, dy (pixels), m in [0,1], fill RGB
-in [0,1]; with rotation_anchor the flow is added to the rotation's sampling positions.
+in [0,1]; with the anchor warps the flow is added to the geometry's sampling positions.
 
 A U-Net of plain 3x3 conv + BatchNorm + ReLU (ConvBN, folded for export) from half
 resolution down to 1/16 and back to half, whose head is upsampled to full
@@ -31,9 +34,11 @@ from torch import nn
 import torch.nn.functional as F
 
 from .depth_net import AppendCoordinates, ConvBN
-from .world_warp import EXTRA_INPUT_CHANNELS, AnchorState, anchor_step, pixel_grid, rotation_sampling, sample
+from .world_warp import ANCHOR_WARPS, EXTRA_INPUT_CHANNELS, AnchorState, anchor_step, pixel_grid, rotation_sampling, \
+    sample
 
 INPUT_NAME = "frames_and_motion"
+POSE_ANCHOR_INPUT_NAME = "frames_motion_and_pose_warp"
 OUTPUT_NAME = "warp_and_fill"
 MOTION_CHANNELS = 4
 # Typical per-frame magnitudes: w moves 256/57 = 4.5 units, j/l in place turn
@@ -67,8 +72,8 @@ class ScaleMotion(nn.Module):
 
 class WorldNet(nn.Module):
     """full_res_head: the head works at full resolution on the upsampled features and
-    the newest frame (with rotation_anchor: the newest frame turned, which lines up
-    with the output), so that the fill can carry detail (v2); without it the head works
+    the newest frame (with the anchor warps: the newest frame moved by the geometry,
+    which lines up with the output), so that the fill can carry detail (v2); without it the head works
     at half resolution and is upsampled (v1). warp: world_warp.WARPS."""
 
     def __init__(self, context, height, width, full_res_head=False, warp="last_frame"):
@@ -117,7 +122,7 @@ class WorldNet(nn.Module):
             x = stage(torch.cat([x, skip], 1))
         if self.full_res is not None:
             x = F.interpolate(x, scale_factor=2.0, mode="bilinear", align_corners=False)
-            guide = (frames_and_motion[:, motion_end:motion_end + 3] if self.warp == "rotation_anchor"
+            guide = (frames_and_motion[:, motion_end:motion_end + 3] if self.warp in ANCHOR_WARPS
                      else frames[:, -3:])
             out = self.head(self.full_res(torch.cat([x, guide], 1)))
         else:
@@ -150,38 +155,57 @@ def input_channels(model):
     return 3 * model.context + MOTION_CHANNELS + model.extra_inputs
 
 
-def net_input(model, context, motion, camera):
-    """The net's input for one step and, for rotation_anchor, the rotation's sampling
-    positions (else None). context [N,K,3,H,W], motion [N,4]."""
+def input_name(warp):
+    """The name of the net's input for a warp (the module text)."""
+    return POSE_ANCHOR_INPUT_NAME if warp == "pose_anchor" else INPUT_NAME
+
+
+def net_input(model, context, motion, camera, state=None):
+    """The net's input for one step, the geometry's sampling positions (None for
+    last_frame) and, for pose_anchor, the state's geometry moved to the next frame
+    (else None). context [N,K,3,H,W], motion [N,4]; state: the AnchorState of pose_anchor."""
     n, k, _, h, w = context.shape
     parts = [context.reshape(n, 3 * k, h, w), motion_planes(motion, h, w)]
-    positions = None
+    positions = geometry = None
     if model.warp == "rotation_anchor":
         positions, in_view = rotation_sampling(motion, camera, h, w)
+    elif model.warp == "pose_anchor":
+        positions, in_view, geometry = state.geometry.sampling(state.coords, motion)
+    if positions is not None:
         parts += [sample(context[:, -1], positions), in_view]
-    return torch.cat(parts, 1), positions
+    return torch.cat(parts, 1), positions, geometry
 
 
 def step(model, context, motion, camera=None, state=None):
     """One autoregressive step. context: float [N,K,3,H,W] in [0,1], oldest first;
-    motion: float [N,4]; camera (fx, fy, cx, cy) and the AnchorState for
-    rotation_anchor. Returns (next frame [N,3,H,W], context for the step after, state
-    after)."""
-    x, positions = net_input(model, context, motion, camera)
+    motion: float [N,4]; camera (fx, fy, cx, cy) and the AnchorState for the anchor
+    warps. Returns (next frame [N,3,H,W], context for the step after, state after)."""
+    x, positions, geometry = net_input(model, context, motion, camera, state)
     out = model(x)
     last = context[:, -1]
-    if model.warp == "rotation_anchor":
-        frame, state = anchor_step(state, last, positions + out[:, 0:2], out[:, 2:3], out[:, 3:6])
+    if model.warp in ANCHOR_WARPS:
+        frame, state = anchor_step(state, last, positions + out[:, 0:2], out[:, 2:3], out[:, 3:6], geometry)
     else:
         frame = apply_warp(last, out)
     return frame, torch.cat([context[:, 1:], frame[:, None]], 1), state
 
 
-def rollout(model, context, motions, camera=None):
+def start_state(model, context, camera=None, depth=None):
+    """The anchor warps' state at the start of a rollout from context [N,K,3,H,W]: the
+    newest context frame is the anchor; pose_anchor needs its depth [N,1,H,W] (metres,
+    the depth prior's). None for last_frame."""
+    if model.warp not in ANCHOR_WARPS:
+        return None
+    if model.warp == "pose_anchor" and depth is None:
+        raise ValueError("the pose_anchor warp needs the depth of the newest context frame")
+    return AnchorState.start(context[:, -1], depth if model.warp == "pose_anchor" else None, camera)
+
+
+def rollout(model, context, motions, camera=None, depth=None):
     """Autoregressive frames for motions float [N,T,4] from context [N,K,3,H,W]:
-    float [N,T,3,H,W]. The rotation_anchor warp's anchor starts at the newest context
-    frame."""
-    state = AnchorState.start(context[:, -1]) if model.warp == "rotation_anchor" else None
+    float [N,T,3,H,W]. The anchor warps' anchor starts at the newest context frame, whose
+    depth [N,1,H,W] pose_anchor needs."""
+    state = start_state(model, context, camera, depth)
     frames = []
     for t in range(motions.shape[1]):
         frame, context, state = step(model, context, motions[:, t], camera, state)

@@ -1,6 +1,6 @@
 """The world model's warps: where each pixel of the next frame is sampled from.
 
-Two interfaces (world.learned.warp in the C++ config, `--warp` of train_world_model.py):
+Three interfaces (world.learned.warp in the C++ config, `--warp` of train_world_model.py):
 
 last_frame (models v1, v2): the net's flow moves the newest frame,
   next = m * newest(p + flow) + (1 - m) * fill.
@@ -29,28 +29,37 @@ rotation_anchor (v3): the camera's own rotation is applied exactly and the net
   from one frame from then on. The net also reads newest(p_rot) and the rotation's
   in-view mask (4 more input planes): it sees the picture already turned.
 
+pose_anchor: as rotation_anchor, but the geometry is the whole commanded camera motion,
+  the turn and the translation, through each pixel's depth (pose_warp.py): p_rot is
+  replaced by pose_warp.pose_sampling's position, so the translation's parallax is
+  geometry and the net's flow only its residual; the net reads the newest frame at those
+  positions and their in-view mask (the same 4 planes). The state also holds the anchor's
+  depth (the depth prior's prediction on the first anchor, a real frame), the anchor's
+  pose and the newest frame's pose (pose_warp.PoseGeometry); the newest frame's depth is
+  that of the anchor pixels its coordinates point to, seen from the newest pose. When a
+  generated frame becomes the anchor, its depth is that depth, carried over, never a new
+  prediction: so training (which cannot run the ONNX prior inside the unroll) and the
+  C++ backend do the same.
+
 Sampling is bilinear with the border replicated in pixel-index coordinates (pixel i's
 centre at i): torch.grid_sample(align_corners=True) here, cv::remap(INTER_LINEAR,
 BORDER_REPLICATE) in C++ (include/valerant/world/learned/anchor_warp.h); valid is
 sampled with zeros outside (BORDER_CONSTANT 0)."""
 import torch
-import torch.nn.functional as F
 
-WARPS = ("last_frame", "rotation_anchor")
+from .bilinear import pixel_grid, sample
+from .pose_warp import PoseGeometry
+
+WARPS = ("last_frame", "rotation_anchor", "pose_anchor")
+# The warps that sample through an anchor's coordinate map.
+ANCHOR_WARPS = ("rotation_anchor", "pose_anchor")
 # Extra input planes of each interface after the K frames and 4 motion planes.
-EXTRA_INPUT_CHANNELS = {"last_frame": 0, "rotation_anchor": 4}
+EXTRA_INPUT_CHANNELS = {"last_frame": 0, "rotation_anchor": 4, "pose_anchor": 4}
 # A sampled validity at least this is a pixel of the anchor (1 - a rounding margin:
 # bilinear weights of four valid pixels sum to 1 up to float error).
 VALID_MIN = 0.999
 # Below this share of valid pixels the new frame becomes the anchor.
 REANCHOR_FRACTION = 0.6
-
-
-def pixel_grid(height, width, device, dtype=torch.float32):
-    """[2,H,W]: x (column) and y (row) of each pixel, pixel-index coordinates."""
-    ys, xs = torch.meshgrid(torch.arange(height, device=device, dtype=dtype),
-                            torch.arange(width, device=device, dtype=dtype), indexing="ij")
-    return torch.stack([xs, ys])
 
 
 def rotation_sampling(motion, camera, height, width):
@@ -89,32 +98,28 @@ def rotation_sampling(motion, camera, height, width):
     return torch.stack([u, v], 1), inside[:, None].to(motion.dtype)
 
 
-def sample(image, positions, padding="border"):
-    """image [N,C,H,W] sampled bilinearly at positions [N,2,H,W] (pixel-index x, y)."""
-    _, _, h, w = image.shape
-    gx = positions[:, 0] * (2.0 / (w - 1)) - 1.0
-    gy = positions[:, 1] * (2.0 / (h - 1)) - 1.0
-    return F.grid_sample(image, torch.stack([gx, gy], -1), mode="bilinear", padding_mode=padding,
-                         align_corners=True)
-
-
 class AnchorState:
-    """The rotation_anchor warp's state of a batch (see the module text)."""
+    """The anchor warps' state of a batch (see the module text); geometry: the
+    pose_anchor warp's pose_warp.PoseGeometry, None for rotation_anchor."""
 
-    def __init__(self, anchor, coords, valid):
-        self.anchor, self.coords, self.valid = anchor, coords, valid
+    def __init__(self, anchor, coords, valid, geometry=None):
+        self.anchor, self.coords, self.valid, self.geometry = anchor, coords, valid, geometry
 
     @staticmethod
-    def start(frame):
-        """The state whose anchor is `frame` [N,3,H,W] itself."""
+    def start(frame, depth=None, camera=None):
+        """The state whose anchor is `frame` [N,3,H,W] itself; for pose_anchor also its
+        depth [N,1,H,W] (metres) and the camera (fx, fy, cx, cy)."""
         n, _, h, w = frame.shape
         coords = pixel_grid(h, w, frame.device, frame.dtype).expand(n, -1, -1, -1).contiguous()
-        return AnchorState(frame, coords, torch.ones_like(frame[:, :1]))
+        geometry = None if depth is None else PoseGeometry.start(depth, camera)
+        return AnchorState(frame, coords, torch.ones_like(frame[:, :1]), geometry)
 
 
-def anchor_step(state, newest, positions, mask, fill):
+def anchor_step(state, newest, positions, mask, fill, geometry=None):
     """The next frame [N,3,H,W] and the state after it. newest: the newest frame;
-    positions [N,2,H,W]: s = p_rot + flow; mask [N,1,H,W], fill [N,3,H,W]."""
+    positions [N,2,H,W]: s = p_rot + flow (pose_anchor: the pose's positions + flow);
+    mask [N,1,H,W], fill [N,3,H,W]; geometry: for pose_anchor, the state's geometry
+    moved to the next frame (PoseGeometry.sampling)."""
     coords = sample(state.coords, positions)
     sampled_valid = sample(state.valid, positions, padding="zeros")
     from_anchor = sampled_valid >= VALID_MIN
@@ -126,5 +131,6 @@ def anchor_step(state, newest, positions, mask, fill):
         fresh = AnchorState.start(frame)
         pick = reanchor[:, None, None, None]
         return frame, AnchorState(torch.where(pick, frame, state.anchor), torch.where(pick, fresh.coords, coords),
-                                  torch.where(pick, fresh.valid, valid))
-    return frame, AnchorState(state.anchor, coords, valid)
+                                  torch.where(pick, fresh.valid, valid),
+                                  None if geometry is None else geometry.reanchored(coords, reanchor))
+    return frame, AnchorState(state.anchor, coords, valid, geometry)

@@ -161,7 +161,8 @@ void readWorld(Section s, WorldConfig& w) {
   l.number("width", w.learned.width, 8, 4096);
   l.number("height", w.learned.height, 8, 4096);
   l.number("context_frames", w.learned.context_frames, 1, 64);
-  l.choice("warp", w.learned.warp, {"last_frame", "rotation_anchor"});
+  l.choice("warp", w.learned.warp, {"last_frame", "rotation_anchor", "pose_anchor"});
+  l.string("depth_prior_model", w.learned.depth_prior_model);
   l.finish();
   s.finish();
 }

@@ -57,7 +57,7 @@ std::vector<int> redRow(const cv::Mat& frame) {
 }  // namespace
 
 TEST(RotationSampling, NoRotationSamplesEveryPixelInPlace) {
-  const RotationSampling r = rotationSampling(MotionStep{}, camera(128, 96, 64, 48));
+  const WarpSampling r = rotationSampling(MotionStep{}, camera(128, 96, 64, 48));
   for (int y : {0, 47, 95})
     for (int x : {0, 63, 127}) {
       EXPECT_NEAR(r.positions.at<cv::Vec2f>(y, x)[0], x, 1e-4);
@@ -74,7 +74,7 @@ TEST(RotationSampling, FortyFiveDegreesLeft) {
   // at column 128 lands at v = 64 (-0.75) / sqrt 2 + 48 = 14.059.
   MotionStep left;
   left.yaw_deg = 45;
-  const RotationSampling r = rotationSampling(left, camera(129, 97, 64.5, 48.5));
+  const WarpSampling r = rotationSampling(left, camera(129, 97, 64.5, 48.5));
   EXPECT_NEAR(r.positions.at<cv::Vec2f>(48, 64)[0], 0.0, 1e-4);
   EXPECT_NEAR(r.positions.at<cv::Vec2f>(48, 64)[1], 48.0, 1e-4);
   EXPECT_NEAR(r.positions.at<cv::Vec2f>(48, 128)[0], 64.0, 1e-4);
@@ -87,14 +87,14 @@ TEST(RotationSampling, LookingDownMovesThePictureUp) {
   // Pitch down by atan(1/64): the centre ray samples one row lower.
   MotionStep down;
   down.pitch_deg = std::atan(1.0 / 64) * 180 / M_PI;
-  const RotationSampling r = rotationSampling(down, camera(128, 97, 64, 48.5));
+  const WarpSampling r = rotationSampling(down, camera(128, 97, 64, 48.5));
   EXPECT_NEAR(r.positions.at<cv::Vec2f>(48, 64)[1], 49.0, 1e-4);
 }
 
 TEST(RotationSampling, RaysBehindTheCameraAreOutOfView) {
   MotionStep about;
   about.yaw_deg = 180;
-  const RotationSampling r = rotationSampling(about, camera(128, 96, 64, 48));
+  const WarpSampling r = rotationSampling(about, camera(128, 96, 64, 48));
   EXPECT_EQ(cv::countNonZero(r.in_view), 0);
 }
 

@@ -392,8 +392,11 @@ TEST(Config, LearnedWorldSectionHasTheModelsContractAndRanges) {
   EXPECT_EQ(c.world.learned.height, 96);
   EXPECT_EQ(c.world.learned.context_frames, 4);
   EXPECT_EQ(c.world.learned.warp, "rotation_anchor");  // the shipped model v3's
+  EXPECT_EQ(c.world.learned.depth_prior_model, "models/depth_prior.onnx");  // pose_anchor's
   EXPECT_EQ(errorOf("world:\n  learned:\n    warp: anchor\n"),
-            "test.yaml: world.learned.warp: 'anchor' is not one of: last_frame, rotation_anchor");
+            "test.yaml: world.learned.warp: 'anchor' is not one of: last_frame, pose_anchor, rotation_anchor");
+  EXPECT_EQ(parseConfig(overShipped("world:\n  learned:\n    warp: pose_anchor\n"), "test.yaml").world.learned.warp,
+            "pose_anchor");
   EXPECT_EQ(parseConfig(overShipped("world:\n  backend: learned\n"), "test.yaml").world.backend, "learned");
   EXPECT_EQ(errorOf("world:\n  backend: video\n"), "test.yaml: world.backend: 'video' is not one of: bag, learned, quake3");
   EXPECT_EQ(errorOf("world:\n  learned:\n    context_frames: 0\n"),

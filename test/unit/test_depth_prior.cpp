@@ -11,7 +11,7 @@
 
 #include "valerant/common/error.h"
 #include "valerant/config/config.h"
-#include "valerant/slam/depth_prior.h"
+#include "valerant/common/depth_prior.h"
 #include "valerant/slam/depth_prior_factory.h"
 
 using namespace valerant;

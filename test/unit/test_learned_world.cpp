@@ -21,6 +21,7 @@ namespace {
 
 const std::string kShiftModel = std::string(VALERANT_SOURCE_DIR) + "/test/data/world_model_shift.onnx";
 const std::string kAnchorModel = std::string(VALERANT_SOURCE_DIR) + "/test/data/world_model_anchor.onnx";
+const std::string kPoseModel = std::string(VALERANT_SOURCE_DIR) + "/test/data/world_model_pose.onnx";
 
 // The shift model's frames are worked out by hand with the last_frame warp; the anchor
 // model (flow 0, mask 1: the rotation warp alone) exercises rotation_anchor's state.
@@ -187,6 +188,25 @@ TEST(LearnedWorld, AnchorWarpStateIsCommittedCheckpointedAndRestored) {
   expectSameFrames(world->rollout(makeActionSequence("l:20", config)), left);
   world->restore(start);
   expectSameFrames(world->rollout(makeActionSequence("j:57,l:20", config)), both);
+}
+
+TEST(LearnedWorld, PoseAnchorWarpStateIsCommittedCheckpointedAndRestored) {
+  // The pose model (flow 0, mask 1: the pose warp alone) from a screenshot, its first
+  // anchor's depth the shipped depth prior's: committing a walk and walking on continues
+  // the same anchor, depth and poses, as one rollout of both keys does.
+  const Config config = smallConfig(kPoseModel, "pose_anchor");
+  auto world = screenshotWorld(config);
+  const CheckpointId start = world->checkpoint();
+  const Rollout both = world->rollout(makeActionSequence("jw:30,w:20", config));
+  const Rollout first = world->rollout(makeActionSequence("jw:30", config));
+  world->commit(first);
+  const Rollout then = world->rollout(makeActionSequence("w:20", config));
+  ASSERT_EQ(then.frames.size(), 20u);
+  for (size_t i = 0; i < 20; ++i) EXPECT_EQ(differences(then.frames[i], both.frames[30 + i]), 0.0) << "frame " << i;
+  // Walking forward changes the picture (the parallax is geometry, not a repeat).
+  EXPECT_GT(differences(then.frames.back(), first.frames.back()), 0.0);
+  world->restore(start);
+  expectSameFrames(world->rollout(makeActionSequence("jw:30,w:20", config)), both);
 }
 
 TEST(LearnedWorld, SameContextAndKeysGiveTheSameBytesInAnotherInstance) {

@@ -30,7 +30,10 @@ struct LearnedWorldConfig {
   int width = 128;           // the net's frame size: OpenCV 4.6 cannot read it from the file
   int height = 96;
   int context_frames = 4;    // K frames the net sees
-  std::string warp = "rotation_anchor";  // last_frame | rotation_anchor: the warp the model was trained with
+  std::string warp = "rotation_anchor";  // last_frame | rotation_anchor | pose_anchor: the warp the model was trained with
+  // pose_anchor's depth of the first anchor (relative: to the package folder): the prior
+  // the model was trained with (models/world_model.md); unused by the other warps.
+  std::string depth_prior_model = "models/depth_prior.onnx";
 };
 
 struct WorldConfig {

@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "valerant/config/config.h"
-#include "valerant/slam/depth_prior.h"
+#include "valerant/common/depth_prior.h"
 
 namespace valerant {
 

@@ -22,7 +22,7 @@
 #include "bench.h"
 #include "valerant/config/package_dir.h"
 #include "valerant/eval/metric_depth_score.h"
-#include "valerant/slam/depth_prior.h"
+#include "valerant/common/depth_prior.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/quake3/quake3_world.h"
 

@@ -47,7 +47,7 @@
 #include "valerant/eval/end_of_path_error.h"
 #include "valerant/eval/image_similarity.h"
 #include "valerant/eval/metric_depth_score.h"
-#include "valerant/slam/depth_prior.h"
+#include "valerant/common/depth_prior.h"
 #include "valerant/slam/slam_factory.h"
 #include "valerant/world/learned/world_model_net.h"
 #include "valerant/world/quake3/quake3_world.h"

@@ -5,10 +5,10 @@
 
 namespace valerant {
 
-RotationSampling rotationSampling(const MotionStep& motion, const CameraIntrinsics& camera) {
+WarpSampling rotationSampling(const MotionStep& motion, const CameraIntrinsics& camera) {
   const int w = camera.width, h = camera.height;
   const double a = motion.yaw_deg * M_PI / 180.0, b = motion.pitch_deg * M_PI / 180.0;
-  RotationSampling r{cv::Mat(h, w, CV_32FC2), cv::Mat(h, w, CV_32F)};
+  WarpSampling r{cv::Mat(h, w, CV_32FC2), cv::Mat(h, w, CV_32F)};
   for (int py = 0; py < h; ++py) {
     cv::Vec2f* pos = r.positions.ptr<cv::Vec2f>(py);
     float* in = r.in_view.ptr<float>(py);
@@ -30,42 +30,11 @@ RotationSampling rotationSampling(const MotionStep& motion, const CameraIntrinsi
   return r;
 }
 
-cv::Mat sampleBilinear(const cv::Mat& image, const cv::Mat& positions, bool zeros_outside) {
-  CV_Assert(image.depth() == CV_32F && image.channels() <= 3 && positions.type() == CV_32FC2);
-  const int w = image.cols, h = image.rows, channels = image.channels();
-  cv::Mat out(positions.size(), image.type());
-  for (int py = 0; py < positions.rows; ++py) {
-    const cv::Vec2f* pos = positions.ptr<cv::Vec2f>(py);
-    float* o = out.ptr<float>(py);
-    for (int px = 0; px < positions.cols; ++px) {
-      float x = pos[px][0], y = pos[px][1];
-      if (!zeros_outside) {
-        x = std::clamp(x, 0.f, static_cast<float>(w - 1));
-        y = std::clamp(y, 0.f, static_cast<float>(h - 1));
-      }
-      const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-      const float fx = x - x0, fy = y - y0;
-      const int xs[2] = {x0, x0 + 1}, ys[2] = {y0, y0 + 1};
-      const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy};
-      float sum[3] = {0, 0, 0};
-      for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) {
-          const float weight = wx[i] * wy[j];
-          // A zero weight never reads: clamped positions on the last row or column touch
-          // one pixel past it.
-          if (weight == 0.f || xs[i] < 0 || xs[i] >= w || ys[j] < 0 || ys[j] >= h) continue;
-          const float* src = image.ptr<float>(ys[j]) + xs[i] * channels;
-          for (int c = 0; c < channels; ++c) sum[c] += weight * src[c];
-        }
-      for (int c = 0; c < channels; ++c) o[px * channels + c] = sum[c];
-    }
-  }
-  return out;
-}
-
-AnchorState AnchorState::start(const cv::Mat& frame_rgb8) {
+AnchorState AnchorState::start(const cv::Mat& frame_rgb8, std::optional<PoseGeometry> geometry) {
   CV_Assert(frame_rgb8.type() == CV_8UC3);
+  CV_Assert(!geometry || geometry->depth.size() == frame_rgb8.size());
   AnchorState s;
+  s.geometry = std::move(geometry);
   frame_rgb8.convertTo(s.anchor, CV_32FC3, 1.0 / 255.0);
   s.coords.create(frame_rgb8.size(), CV_32FC2);
   for (int y = 0; y < frame_rgb8.rows; ++y)
@@ -75,7 +44,7 @@ AnchorState AnchorState::start(const cv::Mat& frame_rgb8) {
 }
 
 cv::Mat anchorStep(AnchorState& state, const cv::Mat& newest_rgb8, const cv::Mat& positions, const cv::Mat& mask,
-                   const cv::Mat& fill) {
+                   const cv::Mat& fill, const std::optional<PoseGeometry>& moved) {
   CV_Assert(newest_rgb8.type() == CV_8UC3 && positions.type() == CV_32FC2 && mask.type() == CV_32F &&
             fill.type() == CV_32FC3);
   const cv::Size size = newest_rgb8.size();
@@ -100,10 +69,11 @@ cv::Mat anchorStep(AnchorState& state, const cv::Mat& newest_rgb8, const cv::Mat
       valid_count += stays;
     }
   if (valid_count < kReanchorFraction * size.area()) {
-    state = AnchorState::start(next);
+    state = AnchorState::start(next, moved ? std::optional<PoseGeometry>(moved->reanchored(coords)) : std::nullopt);
   } else {
     state.coords = coords;
     state.valid = valid;
+    state.geometry = moved;
   }
   return next;
 }

@@ -11,8 +11,13 @@ namespace valerant {
 
 WorldModelNet loadWorldModelNet(const Config& config) {
   const LearnedWorldConfig& l = config.world.learned;
-  return WorldModelNet(packageFilePath(l.model), l.width, l.height, l.context_frames, parseWorldWarp(l.warp),
-                       config.world.fov_x_deg);
+  const WorldWarp warp = parseWorldWarp(l.warp);
+  // The prior runs at the net's size: that is what the pose_anchor training read.
+  std::shared_ptr<const DepthPrior> prior;
+  if (warp == WorldWarp::kPoseAnchor)
+    prior = std::make_shared<const DepthPrior>(packageFilePath(l.depth_prior_model), cv::Size(l.width, l.height));
+  return WorldModelNet(packageFilePath(l.model), l.width, l.height, l.context_frames, warp, config.world.fov_x_deg,
+                       std::move(prior));
 }
 
 cv::Mat readScreenshot(const std::string& path) {
@@ -54,7 +59,7 @@ LearnedWorld::LearnedWorld(WorldModelNet net, const cv::Mat& start_rgb, std::opt
   cv::resize(start_rgb, start, cv::Size(net_.width(), net_.height()), 0, 0, cv::INTER_AREA);
   // A single view is the whole context, repeated; the shown context is that one frame.
   state_.net_frames.assign(net_.contextFrames(), start);
-  state_.anchor = AnchorState::start(start);
+  state_.anchor = net_.startAnchor(start);
   state_.shown.push_back(shownFrame(start));
   if (start_truth) state_.shown_truth.push_back(*start_truth);
 }

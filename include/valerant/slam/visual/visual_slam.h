@@ -34,7 +34,7 @@
 #include <vector>
 
 #include "valerant/config/config.h"
-#include "valerant/slam/depth_prior.h"
+#include "valerant/common/depth_prior.h"
 #include "valerant/slam/slam.h"
 #include "valerant/slam/visual/feature_tracker.h"
 #include "valerant/slam/visual/slam_map.h"

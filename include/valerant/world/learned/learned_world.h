@@ -1,8 +1,8 @@
 #pragma once
 // The learned world backend (world.backend: learned; docs/world_model.md, "Backend"):
 // WorldModelNet run autoregressively behind the WorldModel interface. The committed
-// state is the net's last K frames at its own size (and, with the rotation_anchor warp, its
-// anchor frame and coordinate map), so a checkpoint is a copy of a few small
+// state is the net's last K frames at its own size (and, with the anchor warps, the
+// anchor frame, coordinate map and, for pose_anchor, the anchor's depth and poses), so a checkpoint is a copy of a few small
 // images. A rollout runs the net one frame per MotionStep from the committed context,
 // sliding the K-frame window; the frames it returns are resized to world.width x
 // world.height and intrinsics() is the world camera's, so SLAM and the rest of the
@@ -30,7 +30,8 @@
 namespace valerant {
 
 // The net of world.learned (model path relative to the package folder, as slam's depth
-// prior). Throws InputError naming the file when it cannot be loaded.
+// prior), with the depth prior of world.learned.depth_prior_model for pose_anchor.
+// Throws InputError naming the file when it cannot be loaded.
 WorldModelNet loadWorldModelNet(const Config& config);
 
 // An image file (PNG, JPEG, ... of any size) as CV_8UC3 RGB. Throws InputError naming
@@ -60,7 +61,7 @@ class LearnedWorld : public WorldModel {
  private:
   struct State {
     std::deque<cv::Mat> net_frames;  // the net's context: K frames at its size, oldest first
-    AnchorState anchor;              // the rotation_anchor warp's state (world_model_net.h)
+    AnchorState anchor;              // the anchor warps' state (anchor_warp.h)
     // The committed frames as shown (world size), up to K, with their truth (engine
     // start only): what context() returns; the start is one frame, not K copies.
     std::deque<cv::Mat> shown;

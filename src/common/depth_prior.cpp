@@ -1,4 +1,4 @@
-#include "valerant/slam/depth_prior.h"
+#include "valerant/common/depth_prior.h"
 
 #include <mutex>
 #include <opencv2/dnn.hpp>
