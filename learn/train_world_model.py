@@ -238,7 +238,7 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
     generator = torch.Generator(device).manual_seed(args.seed)
     val_picks = torch.linspace(0, val_table.count - 1, min(VAL_WINDOWS, val_table.count), device=device).long()
     budget_s = args.minutes * 60 if args.minutes is not None else None
-    rows, step, loss_sum, loss_steps = [], 0, torch.zeros((), device=device), 0
+    rows, step, loss_sum, loss_steps, skipped_steps = [], 0, torch.zeros((), device=device), 0, 0
     start = time.time()
     with open(os.path.join(out_dir, "log.csv"), "w", newline="") as log_file:
         log = csv.DictWriter(log_file, LOG_COLUMNS)
@@ -282,14 +282,17 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
                                       args.gradient_weight)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
-            torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
-            optimizer.step()
-            loss_sum += loss.detach()
-            loss_steps += 1
+            grad_norm = torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
+            if torch.isfinite(grad_norm):
+                optimizer.step()
+                loss_sum += loss.detach()
+                loss_steps += 1
+            else:  # one bad window must not turn every weight into NaN
+                skipped_steps += 1
             step += 1
             if step % args.log_every == 0:
-                print("step %d  %.0f s  train loss %.4f" % (step, time.time() - start, float(loss_sum) / loss_steps),
-                      flush=True)
+                print("step %d  %.0f s  train loss %.4f  skipped (non-finite gradient) %d"
+                      % (step, time.time() - start, float(loss_sum) / max(loss_steps, 1), skipped_steps), flush=True)
             if step % args.eval_every == 0:
                 validate(unroll)
         if loss_steps:

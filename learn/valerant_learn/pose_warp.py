@@ -157,12 +157,15 @@ class PoseGeometry:
         """pose_sampling() of the step by motion [N,4] from the newest frame (anchor
         coordinates coords [N,2,H,W]): (positions, in_view, the geometry moved)."""
         moved = self.moved(motion)
-        positions, in_view = pose_sampling(self.depth_of(coords), self.pose, moved.pose, self.camera)
+        # The geometry is an input, not learnt through: a gradient through the depth's
+        # fixed point is divided by the ray's a_z and the depth each iteration, and
+        # overflowed to NaN in the first GPU run's 24-frame unrolls.
+        positions, in_view = pose_sampling(self.depth_of(coords).detach(), self.pose, moved.pose, self.camera)
         return positions, in_view, moved
 
     def reanchored(self, coords, pick):
         """Where pick [N] (bool) is set, the geometry whose anchor is the newest frame, whose
         pixels lie at anchor coordinates coords: its depth carried over, its pose the newest."""
         where = pick[:, None, None, None]
-        return PoseGeometry(torch.where(where, self.depth_of(coords), self.depth),
+        return PoseGeometry(torch.where(where, self.depth_of(coords).detach(), self.depth),
                             torch.where(pick[:, None], self.pose, self.anchor_pose), self.pose, self.camera)
