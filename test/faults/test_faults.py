@@ -44,6 +44,7 @@ USAGE_ERROR = 2  # the exit status of a bad command line (src/tools/command_line
 CONFIG_FLAGS = ["--config", "--set"]
 # learn/make_test_world_model.py's model of the shipped warp (rotation_anchor)
 TEST_WORLD_MODEL = os.path.join(ROOT, "test", "data", "world_model_anchor.onnx")
+TEST_POSE_WORLD_MODEL = os.path.join(ROOT, "test", "data", "world_model_pose.onnx")
 # Every tool (valerant_bench: every benchmark) with every flag its --help must list, the
 # flags a run needs, and an integer flag with which to give it a bad number.
 TOOL_FLAGS = {
@@ -529,6 +530,19 @@ class Faults(unittest.TestCase):
         self.assertEqual(line["sheets"], [sheet])
         with open(sheet, "rb") as handle:
             self.assertTrue(handle.read(8).startswith(b"\x89PNG"))
+
+    def test_world_model_bench_on_the_pose_anchor_test_model(self):
+        # A pose_anchor model starts from the depth prior's depth of the screenshot; the
+        # bench once built the net without the prior and refused every such model.
+        out = self.folder("wm_bench_pose")
+        status, stdout, err = run([tool("valerant_bench"), "wm", "--maps", "oa_dm2", "--spawns", "1", "--model",
+                                   TEST_POSE_WORLD_MODEL, "--set", "world.learned.warp=pose_anchor", "--out", out])
+        self.assertEqual(status, 0, err)
+        line = json.loads(stdout)
+        self.assertEqual([h["rollouts"] + h["in_solid_skipped"] for h in line["horizons"]], [5, 5, 5, 5, 2])
+        for horizon in line["horizons"]:
+            self.assertGreater(horizon["model"]["psnr"], 0, horizon)
+        self.assertEqual(line["motion"]["generated"]["rollouts"], 5, line["motion"])
 
     def test_graph_bench_names_the_error_of_the_episode_it_ran(self):
         # The in-process episode fails on the map; its error once stayed in its log.

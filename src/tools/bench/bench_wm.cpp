@@ -49,6 +49,7 @@
 #include "valerant/eval/metric_depth_score.h"
 #include "valerant/common/depth_prior.h"
 #include "valerant/slam/slam_factory.h"
+#include "valerant/world/learned/learned_world.h"
 #include "valerant/world/learned/world_model_net.h"
 #include "valerant/world/quake3/quake3_world.h"
 
@@ -137,7 +138,7 @@ struct DepthMeans {
 std::vector<cv::Mat> imagine(WorldModelNet& model, const cv::Mat& screenshot, const ActionSequence& actions,
                              std::vector<double>& step_ms) {
   std::vector<cv::Mat> context(model.contextFrames(), screenshot), frames;
-  AnchorState anchor = AnchorState::start(screenshot);
+  AnchorState anchor = model.startAnchor(screenshot);
   for (const MotionStep& step : actions.steps) {
     const ThreadClock start = ThreadClock::now();
     cv::Mat next = model.next(context, step, anchor);
@@ -215,8 +216,10 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
   std::vector<ActionSequence> sequences;  // validated before any map is loaded
   for (const std::string& c : candidateNames()) sequences.push_back(makeActionSequence(c, config));
   cv::setNumThreads(1);
-  WorldModelNet model(model_path, learned.width, learned.height, learned.context_frames, parseWorldWarp(learned.warp),
-                      config.world.fov_x_deg);
+  // As the backend loads it (with the depth prior a pose_anchor model starts from).
+  Config model_config = config;
+  model_config.world.learned.model = model_path;
+  WorldModelNet model = loadWorldModelNet(model_config);
   const DepthPrior prior(packageFilePath(config.slam.depth_prior_model),
                          cv::Size(config.slam.depth_prior_width, config.slam.depth_prior_height));
   // The engine renders what the model was trained on; the SLAM sees the configured
