@@ -508,7 +508,7 @@ class Faults(unittest.TestCase):
         # (learn/make_test_world_model.py): every part of its JSON line and one sheet.
         out = self.folder("wm_bench")
         status, stdout, err = run([tool("valerant_bench"), "wm", "--maps", "oa_dm2", "--spawns", "1", "--model",
-                                   TEST_WORLD_MODEL, "--out", out])
+                                   TEST_WORLD_MODEL, "--set", "world.learned.warp=rotation_anchor", "--out", out])
         self.assertEqual(status, 0, err)
         line = json.loads(stdout)
         self.assertEqual([h["frame"] for h in line["horizons"]], [8, 16, 32, 57, 97])

@@ -391,7 +391,7 @@ TEST(Config, LearnedWorldSectionHasTheModelsContractAndRanges) {
   EXPECT_EQ(c.world.learned.width, 128);
   EXPECT_EQ(c.world.learned.height, 96);
   EXPECT_EQ(c.world.learned.context_frames, 4);
-  EXPECT_EQ(c.world.learned.warp, "rotation_anchor");  // the shipped model v3's
+  EXPECT_EQ(c.world.learned.warp, "pose_anchor");  // the shipped model v4's
   EXPECT_EQ(c.world.learned.depth_prior_model, "models/depth_prior.onnx");  // pose_anchor's
   EXPECT_EQ(errorOf("world:\n  learned:\n    warp: anchor\n"),
             "test.yaml: world.learned.warp: 'anchor' is not one of: last_frame, pose_anchor, rotation_anchor");
