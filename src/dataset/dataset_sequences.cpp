@@ -42,12 +42,14 @@ std::vector<SequenceSpec> planSequences(const std::vector<quake3::CameraState>& 
                      params.rollout_every});
   }
   if (floor_cells.empty()) return out;
-  const int turn_frames = 4 * config.rollout.horizon_frames;  // four 90 deg turns
-  for (int i = 0; i < params.rotations; ++i) {
-    const quake3::CameraState start = randomCell(floor_cells, rng);
+  // A full turn in place, left or right, from a random one of `cells`.
+  const auto addTurn = [&](const std::vector<Eigen::Vector3f>& cells) {
+    const int turn_frames = 4 * config.rollout.horizon_frames;  // four 90 deg turns
+    const quake3::CameraState start = randomCell(cells, rng);
     const std::string keys = std::string(rng() % 2 ? "j:" : "l:") + std::to_string(turn_frames);
     out.push_back({"rotate", -1, start, makeActionSequence(keys, config), params.rotation_every});
-  }
+  };
+  for (int i = 0; i < params.rotations; ++i) addTurn(floor_cells);
   for (int i = 0; i < params.walks; ++i) {
     const quake3::CameraState start = randomCell(floor_cells, rng);
     out.push_back({"walk", -1, start, makeActionSequence(randomWalkKeys(params.walk_frames, rng), config),
@@ -56,11 +58,7 @@ std::vector<SequenceSpec> planSequences(const std::vector<quake3::CameraState>& 
   if (params.wall_rotations > 0) {
     std::vector<Eigen::Vector3f> near_wall;
     for (size_t i : nearWallCells(floor_cells)) near_wall.push_back(floor_cells[i]);
-    for (int i = 0; i < params.wall_rotations && !near_wall.empty(); ++i) {
-      const quake3::CameraState start = randomCell(near_wall, rng);
-      const std::string keys = std::string(rng() % 2 ? "j:" : "l:") + std::to_string(turn_frames);
-      out.push_back({"rotate", -1, start, makeActionSequence(keys, config), params.rotation_every});
-    }
+    for (int i = 0; i < params.wall_rotations && !near_wall.empty(); ++i) addTurn(near_wall);
   }
   return out;
 }
