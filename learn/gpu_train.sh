@@ -54,7 +54,9 @@ if [ "$mode" = collect ]; then
     [ -f "$RUNS/$name.done" ] || { echo "$name: no exit status (the process died)"; status=1; continue; }
     [ "$(cat "$RUNS/$name.done")" = 0 ] || { echo "$name: exit status $(cat "$RUNS/$name.done")"; status=1; }
     cp "$RUNS/$name.log" "$RUNS/$name/train.log"
-    tar -czf "$OUT/$name.tgz" -C "$RUNS" --exclude '*.pt' "$name"
+    # The world model's weights (world_model.pt, ~5 MB) come back: a later machine continues from them (--init).
+    if [ "$TRAINER" = train_world_model.py ]; then keep=(); else keep=(--exclude '*.pt'); fi
+    tar -czf "$OUT/$name.tgz" -C "$RUNS" "${keep[@]}" "$name"
   done
   exit $status
 fi
