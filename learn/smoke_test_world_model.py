@@ -1,14 +1,17 @@
 #!/usr/bin/env python3
-"""CPU smoke test of the world model's training code (one core, well under a minute).
+"""CPU smoke test of the world model's training code (one core, about a minute).
 
 Unit tests of the hand-checkable parts (motion from poses, sequence splitting, the
-warp, PSNR/SSIM, the horizon table) and an end-to-end run of train_world_model.py
-on tiny synthetic shards of a panorama seen through a turning camera, whose ONNX
-output must load in cv2.dnn and match torch.
+warp, PSNR/SSIM, the horizon table, the discriminator's hinge losses) and end-to-end
+runs of train_world_model.py on tiny synthetic shards of a panorama seen through a
+turning camera, whose ONNX output must load in cv2.dnn and match torch: the warps,
+--adversarial-weight, and --init from an earlier run's weights (and its refusals).
 
   smoke_test_world_model.py [--xml PATH]   # PATH: JUnit XML for scripts/count_test_results"""
+import csv
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -24,7 +27,9 @@ import train_world_model
 from split_shard import cut_points, split_shard
 from valerant_learn.junit import run_smoke_test
 from valerant_learn.shards import load_shards, write_shard
+from valerant_learn.training import sha256
 from valerant_learn.world_data import WorldWindows, motion_between, split_sequences, wrap_degrees
+from valerant_learn.world_discriminator import Adversary, PatchDiscriminator, discriminator_loss, generator_loss
 from valerant_learn.world_metrics import horizon_table, psnr, ssim
 from valerant_learn.prior_depth import prior_depths
 from valerant_learn.pose_warp import PoseGeometry, advance_pose, depth_in_camera, pose_sampling, relative_transform
@@ -412,15 +417,52 @@ class GradientDifferenceTest(unittest.TestCase):
         self.assertEqual(float(train_world_model.gradient_difference(true, true)), 0.0)
 
 
+class DiscriminatorTest(unittest.TestCase):
+    def test_hinge_losses(self):
+        # Real logits 0.5 and 2: relu(1 - 0.5) = 0.5, relu(1 - 2) = 0, mean 0.25; fake
+        # logits -2 and 0: relu(1 - 2) = 0, relu(1 + 0) = 1, mean 0.5; the generator's
+        # term is the negated mean of the fake logits, 1.
+        real, fake = torch.tensor([[[[0.5, 2.0]]]]), torch.tensor([[[[-2.0, 0.0]]]])
+        self.assertAlmostEqual(float(discriminator_loss(real, fake)), 0.75, places=6)
+        self.assertAlmostEqual(float(generator_loss(fake)), 1.0, places=6)
+
+    def test_patch_logits(self):
+        net = PatchDiscriminator()
+        self.assertEqual(tuple(net(torch.rand(2, 3, HEIGHT, WIDTH)).shape), (2, 1, HEIGHT // 8, WIDTH // 8))
+        convs = [m for m in net.modules() if isinstance(m, torch.nn.Conv2d)]
+        self.assertEqual([(c.in_channels, c.out_channels, c.kernel_size, c.stride) for c in convs],
+                         [(3, 32, (4, 4), (2, 2)), (32, 64, (4, 4), (2, 2)), (64, 128, (4, 4), (2, 2)),
+                          (128, 1, (3, 3), (1, 1))])
+        self.assertTrue(all(torch.nn.utils.parametrize.is_parametrized(c, "weight") for c in convs))
+
+    def test_a_non_finite_loss_skips_the_step(self):
+        adversary = Adversary(1e-3, torch.device("cpu"))
+        before = [p.detach().clone() for p in adversary.net.parameters()]
+        real = torch.full((1, 3, 16, 16), float("nan"))
+        self.assertIsNone(adversary.step(real, torch.rand(1, 3, 16, 16)))
+        for old, new in zip(before, adversary.net.parameters()):
+            torch.testing.assert_close(new, old)
+
+    def test_sample_keeps_pairs(self):
+        predicted = torch.arange(6.0).view(6, 1, 1, 1)
+        fake, real = train_world_model.adversarial_sample(predicted, predicted + 10, 4,
+                                                          torch.Generator().manual_seed(0))
+        self.assertEqual(len(fake), 4)
+        self.assertEqual(len(set(fake.flatten().tolist())), 4)
+        torch.testing.assert_close(real, fake + 10)
+        fake, real = train_world_model.adversarial_sample(predicted, predicted + 10, 6, None)
+        self.assertIs(fake, predicted)
+
+
 class TrainWorldModelTest(unittest.TestCase):
     def test_rejects_val_maps_in_train(self):
-        run = self.train("never", ["--val", VAL_SHARD, TRAIN_SHARD])
+        run = train_run("never", ["--val", VAL_SHARD, TRAIN_SHARD])
         self.assertNotEqual(run.returncode, 0)
         self.assertIn("val maps overlap train maps: " + TRAIN_MAP, run.stdout)
 
     def test_end_to_end_on_cpu(self):
         out = os.path.join(WORK, "run")
-        run = self.train("run", ["--val", VAL_SHARD, "--full-res-head", "--gradient-weight", "1"])
+        run = train_run("run", ["--val", VAL_SHARD, "--full-res-head", "--gradient-weight", "1"])
         self.assertEqual(run.returncode, 0, run.stdout)
         for name in ("log.csv", "world_model.pt", "world_model.onnx", "metrics.json", "curves.png", "rollouts.png"):
             self.assertTrue(os.path.isfile(os.path.join(out, name)), name)
@@ -436,7 +478,7 @@ class TrainWorldModelTest(unittest.TestCase):
 
     def test_rotation_anchor_end_to_end_on_cpu(self):
         out = os.path.join(WORK, "anchor")
-        run = self.train("anchor", ["--val", VAL_SHARD, "--full-res-head", "--warp", "rotation_anchor"])
+        run = train_run("anchor", ["--val", VAL_SHARD, "--full-res-head", "--warp", "rotation_anchor"])
         self.assertEqual(run.returncode, 0, run.stdout)
         with open(os.path.join(out, "metrics.json")) as handle:
             metrics = json.load(handle)
@@ -446,7 +488,7 @@ class TrainWorldModelTest(unittest.TestCase):
 
     def test_pose_anchor_end_to_end_on_cpu(self):
         out = os.path.join(WORK, "pose")
-        run = self.train("pose", ["--val", VAL_SHARD, "--full-res-head", "--warp", "pose_anchor"])
+        run = train_run("pose", ["--val", VAL_SHARD, "--full-res-head", "--warp", "pose_anchor"])
         self.assertEqual(run.returncode, 0, run.stdout)
         self.assertIn("depth prior", run.stdout)
         with open(os.path.join(out, "metrics.json")) as handle:
@@ -458,18 +500,87 @@ class TrainWorldModelTest(unittest.TestCase):
                          ["frames_motion_and_pose_warp"])
 
     def test_pose_anchor_without_the_prior_file(self):
-        run = self.train("pose_no_prior", ["--val", VAL_SHARD, "--warp", "pose_anchor", "--depth-prior",
+        run = train_run("pose_no_prior", ["--val", VAL_SHARD, "--warp", "pose_anchor", "--depth-prior",
                                            os.path.join(WORK, "missing.onnx")])
         self.assertNotEqual(run.returncode, 0)
         self.assertIn("--depth-prior %s: no such file" % os.path.join(WORK, "missing.onnx"), run.stdout)
 
-    def train(self, name, options):
-        env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")
-        command = [sys.executable, os.path.join(HERE, "train_world_model.py"), "--train", TRAIN_SHARD,
-                   "--out", os.path.join(WORK, name), "--steps", "4", "--batch", "2", "--eval-every", "2",
-                   "--unroll", "2", "--late-unroll", "3", "--device", "cpu", "--workers", "1"] + options
-        return subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                              universal_newlines=True, timeout=120)
+    def test_adversarial_end_to_end_on_cpu(self):
+        # 2 windows of 2 frames, then of 3: 4 and 6 predicted frames, 3 of them shown to
+        # the discriminator.
+        out = os.path.join(WORK, "adversarial")
+        run = train_run("adversarial", ["--val", VAL_SHARD, "--adversarial-weight", "0.01",
+                                        "--adversarial-frames", "3", "--log-every", "1"])
+        self.assertEqual(run.returncode, 0, run.stdout)
+        with open(os.path.join(out, "metrics.json")) as handle:
+            metrics = json.load(handle)
+        self.assertEqual((metrics["adversarial_weight"], metrics["adversarial_frames"], metrics["adversarial_lr"],
+                          metrics["init"]), (0.01, 3, 2e-4, None))
+        with open(os.path.join(out, "log.csv")) as handle:
+            rows = list(csv.DictReader(handle))
+        self.assertEqual(len(rows), 2)
+        self.assertTrue(all(np.isfinite(float(row[key])) for row in rows for key in ("train_loss", "val_l1")))
+        logged = re.findall(r"skipped \(non-finite gradient\) 0  discriminator loss (\S+)  adversarial term (\S+)  "
+                            r"skipped \(discriminator\) 0\n", run.stdout)
+        self.assertEqual(len(logged), 4, run.stdout)
+        self.assertTrue(np.isfinite(np.array(logged, dtype=float)).all(), logged)
+
+
+class InitTest(unittest.TestCase):
+    """--init: a run that starts from the weights of an earlier run's world_model.pt."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.source = os.path.join(WORK, "init_source", "world_model.pt")
+        run = train_run("init_source", ["--val", VAL_SHARD])
+        if run.returncode:
+            raise RuntimeError("the --init source run failed:\n" + run.stdout)
+
+    def test_starts_from_the_checkpoint(self):
+        # At a learning rate of 1e-9 one step leaves the weights where --init put them
+        # (BatchNorm's running statistics move with the batch: not compared).
+        out = os.path.join(WORK, "init_target")
+        run = train_run("init_target", ["--val", VAL_SHARD, "--init", self.source, "--steps", "1", "--lr", "1e-9"])
+        self.assertEqual(run.returncode, 0, run.stdout)
+        self.assertIn("init: the weights of %s, step 4 of its run" % self.source, run.stdout)
+        source = torch.load(self.source)["state_dict"]
+        target = torch.load(os.path.join(out, "world_model.pt"))["state_dict"]
+        for name, value in source.items():
+            if "running_" not in name and "num_batches_tracked" not in name:
+                torch.testing.assert_close(target[name], value, atol=1e-6, rtol=0, msg=name)
+        with open(os.path.join(out, "metrics.json")) as handle:
+            self.assertEqual(json.load(handle)["init"], {"path": self.source, "sha256": sha256(self.source), "step": 4})
+
+    def test_refuses_a_missing_or_unreadable_file(self):
+        missing, garbage = os.path.join(WORK, "missing.pt"), os.path.join(WORK, "garbage.pt")
+        with open(garbage, "w") as handle:
+            handle.write("not a checkpoint")
+        for path, problem in ((missing, "no such file"), (garbage, "unreadable")):
+            run = train_run("init_refused", ["--val", VAL_SHARD, "--init", path])
+            self.assertNotEqual(run.returncode, 0)
+            self.assertIn("train_world_model: error: --init %s: %s" % (path, problem), run.stdout)
+
+    def test_refuses_a_checkpoint_of_other_options(self):
+        for options, problem in ((["--warp", "rotation_anchor"], "made with --warp last_frame, this run has --warp "
+                                                                 "rotation_anchor"),
+                                 (["--context", "3"], "made with --context 4, this run has --context 3")):
+            run = train_run("init_refused", ["--val", VAL_SHARD, "--init", self.source] + options)
+            self.assertNotEqual(run.returncode, 0)
+            self.assertIn("train_world_model: error: --init %s: %s" % (self.source, problem), run.stdout)
+        # The frame size is the data's, checked once it is loaded.
+        with self.assertRaisesRegex(ValueError, "--init %s: made for 128x96 frames, this data's are 48x32"
+                                    % self.source):
+            train_world_model.load_init(WorldNet(4, 32, 48), torch.load(self.source), self.source)
+
+
+def train_run(name, options):
+    """train_world_model.py on the panorama shards, 4 steps of 2 windows, into WORK/name."""
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")
+    command = [sys.executable, os.path.join(HERE, "train_world_model.py"), "--train", TRAIN_SHARD,
+               "--out", os.path.join(WORK, name), "--steps", "4", "--batch", "2", "--eval-every", "2",
+               "--unroll", "2", "--late-unroll", "3", "--device", "cpu", "--workers", "1"] + options
+    return subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, timeout=120)
 
 
 if __name__ == "__main__":

@@ -11,6 +11,12 @@ so that it learns to live with its own errors; the loss is the mean L1 of every
 predicted frame plus a structure term (1 - SSIM). The kept weights are the last
 ones: --val is measured, never used to choose.
 
+--init starts from the weights of an earlier run's world_model.pt (same context, head,
+warp and frame size; a fresh optimiser and schedule). --adversarial-weight W adds W times
+the hinge term of a PatchGAN discriminator (valerant_learn/world_discriminator.py),
+trained beside the net, so that the fill of what no context frame held gets texture
+rather than a smooth mean colour.
+
 Validation (and the figures of the model card) runs every candidate rollout of the
 --val shards from its first frame, the context that frame repeated, and reports PSNR
 and SSIM at frames 8, 16, 32, 57 and 97 against the true frames, next to two
@@ -34,6 +40,7 @@ from valerant_learn.prior_depth import prior_depths
 from valerant_learn.shards import check_same_camera, load_shards
 from valerant_learn.training import device_name, expand_globs, learning_rate, pick_device, sha256
 from valerant_learn.world_data import WorldWindows
+from valerant_learn.world_discriminator import Adversary
 from valerant_learn.world_export import export_world_onnx
 from valerant_learn.world_metrics import HORIZONS, horizon_table, ssim
 from valerant_learn.world_net import WorldNet, net_input, rollout, start_state
@@ -45,6 +52,8 @@ GRAD_CLIP_NORM = 1.0
 SSIM_WEIGHT = 0.2
 VAL_WINDOWS = 256
 DEFAULT_DEPTH_PRIOR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "depth_prior.onnx")
+# What train() saves in world_model.pt; --init reads it back.
+CHECKPOINT_KEYS = ("state_dict", "context", "full_res_head", "warp", "camera", "height", "width", "step")
 LOG_COLUMNS = ["step", "seconds", "unroll", "train_loss", "val_l1"] + [
     "val_psnr_%d" % h for h in HORIZONS]
 
@@ -79,6 +88,17 @@ def parse_args(argv):
                              "(default: the shipped models/depth_prior.onnx)")
     parser.add_argument("--gradient-weight", type=float, default=0.0,
                         help="weight of the image-gradient difference term of the loss (against blur)")
+    parser.add_argument("--init", metavar="PT",
+                        help="start from the weights of this world_model.pt of an earlier run (same --context, "
+                             "--full-res-head, --warp and frame size), with a fresh optimiser and schedule")
+    parser.add_argument("--adversarial-weight", type=float, default=0.0, metavar="W",
+                        help="weight of the hinge term of a PatchGAN discriminator on the predicted frames "
+                             "(valerant_learn/world_discriminator.py); 0: none")
+    parser.add_argument("--adversarial-frames", type=int, default=64, metavar="N",
+                        help="predicted and true frames a step shows the discriminator (a random subset of "
+                             "the unroll's when it has more)")
+    parser.add_argument("--adversarial-lr", type=float, default=2e-4,
+                        help="the discriminator's Adam learning rate (constant)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--device", choices=["auto", "cpu", "cuda"], default="auto")
     parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
@@ -93,7 +113,7 @@ def parse_args(argv):
                         help="candidate rollouts of --val measured at the horizons")
     args = parser.parse_args(argv)
     for name in ("steps", "batch", "eval_every", "log_every", "workers", "context", "unroll", "late_unroll",
-                 "max_val_rollouts"):
+                 "max_val_rollouts", "adversarial_frames"):
         value = getattr(args, name)
         if value is not None and value < 1:
             parser.error("--%s must be at least 1" % name.replace("_", "-"))
@@ -103,6 +123,10 @@ def parse_args(argv):
         parser.error("--lr must be positive")
     if not args.gradient_weight >= 0:
         parser.error("--gradient-weight must be at least 0")
+    if not args.adversarial_weight >= 0:
+        parser.error("--adversarial-weight must be at least 0")
+    if not args.adversarial_lr > 0:
+        parser.error("--adversarial-lr must be positive")
     if not 0 <= args.late_fraction < 1:
         parser.error("--late-fraction must be in [0, 1)")
     return args
@@ -128,6 +152,40 @@ def load_data(args):
                          % ", ".join(shared))
     check_same_camera("the train shards", train["meta"], "the val shards", val["meta"])
     return train, val
+
+
+def read_init(args):
+    """The checkpoint of --init, checked against this run's options (before the data's
+    long load); ValueError naming the file when it is missing, unreadable or made for
+    other options."""
+    path = args.init
+    if not os.path.isfile(path):
+        raise ValueError("--init %s: no such file" % path)
+    try:
+        # Not weights_only: torch 1.13's weights-only unpickler cannot read the camera's
+        # floats. The file is an earlier run's own output.
+        checkpoint = torch.load(path, map_location="cpu", weights_only=False)
+    except Exception as error:  # torch.load fails in many ways: pickle, zip, EOF, OS errors
+        raise ValueError("--init %s: unreadable (%s)" % (path, error))
+    if not isinstance(checkpoint, dict) or not all(key in checkpoint for key in CHECKPOINT_KEYS):
+        raise ValueError("--init %s: not a world_model.pt (its keys are not %s)" % (path, ", ".join(CHECKPOINT_KEYS)))
+    for key, value in (("context", args.context), ("full_res_head", args.full_res_head), ("warp", args.warp)):
+        if checkpoint[key] != value:
+            option = "--" + key.replace("_", "-")
+            raise ValueError("--init %s: made with %s %s, this run has %s %s" % (path, option, checkpoint[key],
+                                                                                 option, value))
+    return checkpoint
+
+
+def load_init(model, checkpoint, path):
+    """Loads read_init()'s weights into the model built for this run's data."""
+    if (checkpoint["height"], checkpoint["width"]) != (model.height, model.width):
+        raise ValueError("--init %s: made for %dx%d frames, this data's are %dx%d" % (
+            path, checkpoint["width"], checkpoint["height"], model.width, model.height))
+    try:
+        model.load_state_dict(checkpoint["state_dict"])
+    except RuntimeError as error:
+        raise ValueError("--init %s: its weights do not fit the net (%s)" % (path, error))
 
 
 class WindowTable:
@@ -171,7 +229,8 @@ def gradient_difference(predicted, true):
 
 
 def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_weight=0.0):
-    """depth: float [N,H,W] metres of every frame (pose_anchor), else None."""
+    """depth: float [N,H,W] metres of every frame (pose_anchor), else None. Returns the
+    loss, its L1 part, and the predicted and true frames of the unroll [N*T,3,H,W]."""
     context = as_frames(rgb[table.context[picks]])
     targets = as_frames(rgb[table.targets[picks]])
     motions = table.motions[picks]
@@ -190,7 +249,16 @@ def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_wei
     loss = l1 + SSIM_WEIGHT * (1 - ssim(flat_pred, flat_true).mean())
     if gradient_weight > 0:
         loss = loss + gradient_weight * gradient_difference(flat_pred, flat_true)
-    return loss, l1
+    return loss, l1, flat_pred, flat_true
+
+
+def adversarial_sample(predicted, true, limit, generator):
+    """The frames [F,3,H,W] the discriminator sees: all of the unroll's predicted and
+    true frames, or `limit` pairs of them drawn with the training generator (seeded)."""
+    if len(predicted) <= limit:
+        return predicted, true
+    picks = torch.randperm(len(predicted), generator=generator, device=predicted.device)[:limit]
+    return predicted[picks], true[picks]
 
 
 def val_rollouts(windows, limit):
@@ -228,6 +296,21 @@ def measure_horizons(model, windows, runs, device, camera, depth=None):
     return horizon_table(entries)
 
 
+class RunningMean:
+    """The mean of the values added since the last take() (0 when none were)."""
+
+    def __init__(self):
+        self.total, self.count = 0.0, 0
+
+    def add(self, value):
+        self.total, self.count = self.total + value, self.count + 1
+
+    def take(self):
+        mean = float(self.total) / max(self.count, 1)
+        self.total, self.count = 0.0, 0
+        return mean
+
+
 def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, device, out_dir, camera):
     """depth: {"train", "val"}: tensors [N,H,W] of every frame's depth on the device for
     pose_anchor, else None."""
@@ -239,6 +322,8 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
     val_picks = torch.linspace(0, val_table.count - 1, min(VAL_WINDOWS, val_table.count), device=device).long()
     budget_s = args.minutes * 60 if args.minutes is not None else None
     rows, step, loss_sum, loss_steps, skipped_steps = [], 0, torch.zeros((), device=device), 0, 0
+    adversary = Adversary(args.adversarial_lr, device) if args.adversarial_weight > 0 else None
+    adversarial_mean, discriminator_mean, discriminator_skipped = RunningMean(), RunningMean(), 0
     start = time.time()
     with open(os.path.join(out_dir, "log.csv"), "w", newline="") as log_file:
         log = csv.DictWriter(log_file, LOG_COLUMNS)
@@ -248,7 +333,7 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
             nonlocal loss_sum, loss_steps
             model.eval()
             with torch.no_grad():
-                _, val_l1 = window_loss(model, rgb["val"], val_table, val_picks, None, camera, depth["val"])
+                _, val_l1, _, _ = window_loss(model, rgb["val"], val_table, val_picks, None, camera, depth["val"])
             model.train()
             table = measure_horizons(model, windows_val, val_runs, device, camera, depth["val"])
             row = {"step": step, "seconds": round(time.time() - start, 2), "unroll": unroll,
@@ -278,8 +363,12 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
             flip = torch.rand(args.batch, generator=generator, device=device) < 0.5
             with torch.autocast(device_type=device.type, dtype=torch.bfloat16,
                                 enabled=device.type == "cuda" and args.precision == "bf16"):
-                loss, _ = window_loss(model, rgb["train"], table, picks, flip, camera, depth["train"],
-                                      args.gradient_weight)
+                loss, _, predicted, true = window_loss(model, rgb["train"], table, picks, flip, camera,
+                                                       depth["train"], args.gradient_weight)
+            if adversary is not None:  # in fp32, outside autocast
+                fake, real = adversarial_sample(predicted, true, args.adversarial_frames, generator)
+                adversarial = adversary.generator_term(fake)
+                loss = loss + args.adversarial_weight * adversarial
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             grad_norm = torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
@@ -287,16 +376,29 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
                 optimizer.step()
                 loss_sum += loss.detach()
                 loss_steps += 1
+                if adversary is not None:
+                    adversarial_mean.add(adversarial.detach())
             else:  # one bad window must not turn every weight into NaN
                 skipped_steps += 1
+            if adversary is not None:
+                d_loss = adversary.step(real, fake)
+                if d_loss is None:
+                    discriminator_skipped += 1
+                else:
+                    discriminator_mean.add(d_loss)
             step += 1
             if step % args.log_every == 0:
-                print("step %d  %.0f s  train loss %.4f  skipped (non-finite gradient) %d"
-                      % (step, time.time() - start, float(loss_sum) / max(loss_steps, 1), skipped_steps), flush=True)
+                adversarial_log = "" if adversary is None else (
+                    "  discriminator loss %.4f  adversarial term %.4f  skipped (discriminator) %d"
+                    % (discriminator_mean.take(), adversarial_mean.take(), discriminator_skipped))
+                print("step %d  %.0f s  train loss %.4f  skipped (non-finite gradient) %d%s"
+                      % (step, time.time() - start, float(loss_sum) / max(loss_steps, 1), skipped_steps,
+                         adversarial_log), flush=True)
             if step % args.eval_every == 0:
                 validate(unroll)
         if loss_steps:
             validate(unroll)
+    # The keys of CHECKPOINT_KEYS, which --init reads back.
     torch.save({"state_dict": {k: v.cpu() for k, v in model.state_dict().items()}, "context": model.context,
                 "full_res_head": model.full_res is not None, "warp": model.warp, "camera": camera,
                 "height": model.height, "width": model.width, "step": step},
@@ -312,9 +414,14 @@ def main(argv=None):
     torch.manual_seed(args.seed)
     try:
         device = pick_device(args.device)
+        checkpoint = None if args.init is None else read_init(args)
+        init = None if checkpoint is None else {"path": args.init, "sha256": sha256(args.init),
+                                                "step": checkpoint["step"]}
         train_data, val_data = load_data(args)
         meta = train_data["meta"]
         model = WorldNet(args.context, meta["height"], meta["width"], args.full_res_head, args.warp)
+        if checkpoint is not None:
+            load_init(model, checkpoint, args.init)
         camera = {key: float(meta[key]) for key in ("fx", "fy", "cx", "cy")}
         windows = {"train": WorldWindows(train_data["rgb"], train_data, args.context),
                    "val": WorldWindows(val_data["rgb"], val_data, args.context)}
@@ -330,6 +437,9 @@ def main(argv=None):
             ", ".join(data["meta"]["maps"])), flush=True)
     parameters = sum(p.numel() for p in model.parameters())
     print("model: %d parameters; device %s" % (parameters, device_name(device)), flush=True)
+    if init is not None:
+        print("init: the weights of %s, step %d of its run (sha256 %s)" % (init["path"], init["step"], init["sha256"]),
+              flush=True)
     model = model.to(device)
     rgb = {"train": torch.from_numpy(train_data["rgb"]).to(device), "val": torch.from_numpy(val_data["rgb"]).to(device)}
     # Only pose_anchor reads depth: its anchors start at the newest context frame's.
@@ -363,6 +473,10 @@ def main(argv=None):
         "warp": args.warp,
         "depth_prior_sha256": sha256(args.depth_prior) if args.warp == "pose_anchor" else None,
         "gradient_weight": args.gradient_weight,
+        "adversarial_weight": args.adversarial_weight,
+        "adversarial_frames": args.adversarial_frames,
+        "adversarial_lr": args.adversarial_lr,
+        "init": init,
         "input_width": meta["width"],
         "input_height": meta["height"],
         "steps": steps,
