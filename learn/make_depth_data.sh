@@ -5,8 +5,8 @@
 # with their textures randomised (seed 4 at p 0.9, seeds 5 and 6 at p 1.0); then turns in
 # place near walls only, twice (seed 7 as the maps look, seed 8 randomised at p 1.0);
 # and the evaluation maps' shard (seed 2). Then it packs them into data/depth_parts/pNN, one
-# folder per call to the GPU host (learn/pack_parts.py; 27 MiB leaves room for the
-# working tree in a call's 64 MiB).
+# folder per call to the GPU host (learn/pack_parts.py: each part leaves room for the
+# tracked working tree, and 4 MiB more, in a call's 64 MiB).
 #   learn/make_depth_data.sh            (about 2 minutes a rendering on 2 cores)
 # Then, on the GPU host, one call per folder, back to back:
 #   DATA=data/depth_parts/pNN learn/gpu_train.sh stage
@@ -37,5 +37,5 @@ walls=(--spawns 0 --rotations 0 --walks 0 --wall-rotations 24)
 render train_wall7 7 "${walls[@]}"
 render train_wall8 8 "${walls[@]}" --texture-shuffle 1.0
 "$tool" --out data/eval --split evaluation --seed 2 > data/eval.json
-/usr/bin/python3 learn/pack_parts.py --limit-mib 27 --out data/depth_parts \
+/usr/bin/python3 learn/pack_parts.py --out data/depth_parts \
   data/train_{,rand_,rand5_,rand6_,wall7_,wall8_}{a,b} data/eval

@@ -3,8 +3,8 @@
 # consecutive frames (--every 1) of the five candidates from one spawn, one full turn
 # in place and five 64-frame random walks per training map (data/wm/train_wm), and the
 # same from two spawns and two walks per evaluation map (data/wm/eval); then packs them
-# into data/wm_parts/pNN, one folder per call to the GPU host (learn/pack_parts.py;
-# 27 MiB leaves room for the working tree, 35 MiB, in a call's 64 MiB). The pose_anchor warp's
+# into data/wm_parts/pNN, one folder per call to the GPU host (learn/pack_parts.py: each
+# part leaves room for the tracked working tree, and 4 MiB more, in a call's 64 MiB). The pose_anchor warp's
 # depth prior runs at load on the GPU host (valerant_learn/prior_depth.py), not here.
 #   learn/make_world_data.sh            (about 12 minutes on 2 cores)
 # Then, on the GPU host, one call per folder, back to back:
@@ -21,4 +21,4 @@ mkdir -p data/wm
   > data/wm/train_wm.json
 "$tool" --split evaluation --spawns 2 --walks 2 --seed 12 --rotations 0 "${sampling[@]}" --out data/wm/eval \
   > data/wm/eval.json
-/usr/bin/python3 learn/pack_parts.py --limit-mib 27 --out data/wm_parts data/wm/train_wm data/wm/eval
+/usr/bin/python3 learn/pack_parts.py --out data/wm_parts data/wm/train_wm data/wm/eval

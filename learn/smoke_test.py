@@ -317,6 +317,20 @@ class PackPartsTest(unittest.TestCase):
         self.assertEqual(sorted(zip(frames["sequence"], frames["step"])),
                          sorted(zip(load_shards([TRAIN_SHARD])["sequence"], load_shards([TRAIN_SHARD])["step"])))
         self.assertEqual(len(load_shards(glob.glob(os.path.join(out, "p[0-9][0-9]", "eval", "*.zip")))["kind"]), 8)
+        self.assertFalse(os.path.exists(os.path.join(out, "pieces")))  # the links keep the cut shards' bytes
+
+    def test_hand_worked_part_limit(self):
+        # a 40 MiB tree: 64 - 40 - 4 = 20 MiB a part
+        self.assertEqual(pack_parts.part_limit_mib(40 * 2 ** 20), 20.0)
+
+    def test_default_limit_leaves_room_for_the_tree(self):
+        tree = pack_parts.tracked_bytes(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+        self.assertGreater(tree, 0)
+        self.assertAlmostEqual(pack_parts.part_limit_mib(tree) + tree / 2 ** 20, 60.0)
+
+    def test_bad_limit(self):
+        with self.assertRaisesRegex(SystemExit, "must be positive"):
+            pack_parts.main([os.path.join(WORK, "train_x"), "--limit-mib", "0", "--out", os.path.join(WORK, "bad")])
 
     def test_bad_folders(self):
         with self.assertRaisesRegex(SystemExit, "train_\\* or eval"):
