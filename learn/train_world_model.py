@@ -103,7 +103,7 @@ def parse_args(argv):
     parser.add_argument("--device", choices=["auto", "cpu", "cuda"], default="auto")
     parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
     parser.add_argument("--log-every", type=int, default=100, metavar="N",
-                        help="print the mean training loss of the last N steps")
+                        help="every N steps, print the mean training loss since the last validation")
     parser.add_argument("--precision", choices=["bf16", "fp32"], default="fp32",
                         help="on CUDA: fp32, or bf16 autocast, which diverged here within 100 steps "
                              "(models/world_model.md); the CPU always runs fp32")
