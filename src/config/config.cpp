@@ -498,6 +498,7 @@ Config ConfigDocument::parse() const {
   exports.number("orbit_fov_deg", c.exports.orbit_fov_deg, 1.0, 170.0);
   exports.number("render_cut_eye_heights", c.exports.render_cut_eye_heights, 0.0, 1e3);
   exports.number("overview_pixels_per_metre", c.exports.overview_pixels_per_metre, 0.1, 1000.0);
+  exports.number("overview_max_side_px", c.exports.overview_max_side_px, 16, 8192);
   exports.finish();
   readLoopClosure(top.child("loop_closure"), c.loop_closure);
   top.finish();

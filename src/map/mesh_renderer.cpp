@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <opencv2/imgproc.hpp>
 
 #include "valerant/common/error.h"
@@ -93,6 +94,13 @@ cv::Mat MeshRenderer::render(const SurfaceMesh& mesh, const Eigen::Matrix4f& vie
   if (!OSMesaMakeCurrent(r.context, r.colour_buffer.data(), GL_UNSIGNED_BYTE, r.width, r.height))
     throw InputError("OSMesa", "cannot make the offscreen context current");
   OSMesaPixelStore(OSMESA_Y_UP, 1);
+  // Mesa writes past its buffers for a canvas beyond its limit instead of failing.
+  GLint max_dims[2] = {0, 0};
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, max_dims);
+  if (r.width > max_dims[0] || r.height > max_dims[1])
+    throw InputError("OSMesa", "a " + std::to_string(r.width) + " x " + std::to_string(r.height) +
+                                   " picture exceeds the rasteriser's limit of " + std::to_string(max_dims[0]) +
+                                   " x " + std::to_string(max_dims[1]) + " pixels");
   glViewport(0, 0, r.width, r.height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
@@ -184,9 +192,13 @@ cv::Mat renderOverview(const SurfaceMesh& full_mesh, const WalkableArea& walkabl
   const SurfaceMesh mesh = cutAbove(full_mesh, static_cast<float>(config.render_cut_eye_heights));
   if (mesh.triangles.empty()) return {};
   const Eigen::AlignedBox3f box = bounds(mesh);
-  const double ppm = config.overview_pixels_per_metre;
-  const int width = std::max(1, static_cast<int>(std::ceil(box.sizes().x() * ppm)));
-  const int height = std::max(1, static_cast<int>(std::ceil(box.sizes().z() * ppm)));
+  // A runaway SLAM scale can make the map kilometres wide: past overview_max_side_px
+  // the scale shrinks so the picture keeps that size.
+  const double extent = std::max<double>(box.sizes().x(), box.sizes().z());
+  const double ppm = std::min(config.overview_pixels_per_metre, config.overview_max_side_px / std::max(extent, 1e-9));
+  const int max_side = config.overview_max_side_px;
+  const int width = std::clamp(static_cast<int>(std::ceil(box.sizes().x() * ppm)), 1, max_side);
+  const int height = std::clamp(static_cast<int>(std::ceil(box.sizes().z() * ppm)), 1, max_side);
   const float half_w = 0.5f * width / static_cast<float>(ppm), half_h = 0.5f * height / static_cast<float>(ppm);
   const Eigen::Vector3f centre = box.center();
   // Looking straight down with -Z up: +X is right, +Z down the image.

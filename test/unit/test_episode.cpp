@@ -189,6 +189,9 @@ TEST(Episode, ADeadEndAheadCommitsAShortTranslation) {
   EXPECT_EQ(chosen.verdict.prefix_frames, static_cast<int>(chosen.truth.size()));  // clear to its end
   for (const auto& f : chosen.truth) EXPECT_FALSE(f.in_solid);
   // Every candidate carries the whole-level terms; turns have no goal term.
-  for (const auto& c : r.candidates)
-    if (c.verdict.rotation_only) EXPECT_EQ(c.verdict.goal, 0.0) << c.verdict.candidate;
+  for (const auto& c : r.candidates) {
+    if (c.verdict.rotation_only) {
+      EXPECT_EQ(c.verdict.goal, 0.0) << c.verdict.candidate;
+    }
+  }
 }

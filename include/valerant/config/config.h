@@ -180,6 +180,7 @@ struct ExportConfig {
   double orbit_fov_deg = 50;
   double render_cut_eye_heights = 1.5;  // renders leave out geometry this far above its floor
   double overview_pixels_per_metre = 16;
+  int overview_max_side_px = 4096;      // a larger map is drawn at a smaller scale
 };
 
 struct SlamConfig {

@@ -28,6 +28,7 @@ class MeshRenderer {
   MeshRenderer& operator=(const MeshRenderer&) = delete;
 
   // `view`: asset frame to OpenGL eye coordinates; `projection`: eye to clip. RGB.
+  // A size beyond the rasteriser's limit (GL_MAX_VIEWPORT_DIMS) is an InputError.
   cv::Mat render(const SurfaceMesh& mesh, const Eigen::Matrix4f& view, const Eigen::Matrix4f& projection);
 
  private:
@@ -40,7 +41,8 @@ class MeshRenderer {
 std::vector<cv::Mat> renderOrbit(const SurfaceMesh& mesh, const ExportConfig& config);
 
 // Top-down RGB picture, -Z (the spawn's heading) up, +X right, at
-// exports.overview_pixels_per_metre: the mesh, the walkable area shaded green with its
+// exports.overview_pixels_per_metre, or smaller where that would make a side longer
+// than exports.overview_max_side_px: the mesh, the walkable area shaded green with its
 // outline, the path in yellow and the spawn in blue. Empty for an empty mesh.
 cv::Mat renderOverview(const SurfaceMesh& mesh, const WalkableArea& walkable, const AssetNodes& nodes,
                        const ExportConfig& config);
