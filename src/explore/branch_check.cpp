@@ -62,6 +62,9 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     const FloorPlane& start = floors.front();
     const bool stepped = config_.step_height > 0;
     std::vector<HeightedPoint> points;
+    size_t total = committed_ ? committed_->size() : 0;
+    for (const KeyframePoints& kf : keyframes_) total += kf.points.size();
+    points.reserve(total);
     for (const KeyframePoints& kf : keyframes_)
       for (const auto& p : kf.points) {
         const FloorPlane& datum = stepped ? start : floors[kf.frame];

@@ -1,5 +1,6 @@
 #include "valerant/explore/point_cloud_collision.h"
 
+#include "valerant/explore/body_point_index.h"
 #include "valerant/explore/step_support.h"
 
 namespace valerant {
@@ -7,21 +8,16 @@ namespace valerant {
 std::vector<int> bodyCylinderCounts(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& samples,
                                     const CollisionConfig& config, double radius) {
   if (config.step_height > 0) return steppedBodyCounts(points, samples, config, radius).counts;
-  // Only body-level, confident points can ever count; filter them once.
+  // Only body-level, confident points can ever count; filter them once. A point with a
+  // non-finite coordinate is never within the radius.
   std::vector<Eigen::Vector3d> body;
   for (const auto& p : points)
-    if (p.confidence >= config.min_confidence && p.h >= config.height_low && p.h <= config.height_high)
+    if (p.confidence >= config.min_confidence && p.h >= config.height_low && p.h <= config.height_high &&
+        p.position.allFinite())
       body.push_back(p.position);
+  const BodyPointIndex index(body, samples, radius);
   std::vector<int> counts;
-  for (const FloorPlane& s : samples) {
-    const double kappa = s.cameraHeight();
-    int count = 0;
-    if (kappa > 0) {
-      const double radius2 = (radius * kappa) * (radius * kappa);
-      for (const auto& p : body) count += s.axisDistanceSquared(p) <= radius2;
-    }
-    counts.push_back(count);
-  }
+  for (const FloorPlane& s : samples) counts.push_back(index.count(s, radius));
   return counts;
 }
 

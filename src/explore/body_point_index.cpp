@@ -1,0 +1,97 @@
+#include "valerant/explore/body_point_index.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace valerant {
+namespace {
+
+constexpr double kMinAxisCosine = 0.5;  // samples tilted further from n0 go by brute force
+constexpr double kMaxCellsPerAxis = 1e9;  // keeps cell indices far inside long long
+
+bool lessCell(long long ax, long long ay, long long bx, long long by) { return ax < bx || (ax == bx && ay < by); }
+
+}  // namespace
+
+BodyPointIndex::BodyPointIndex(std::vector<Eigen::Vector3d> points, const std::vector<FloorPlane>& samples,
+                               double radius) {
+  const FloorPlane* reference = nullptr;
+  for (const FloorPlane& s : samples)
+    if (s.cameraHeight() > 0 && std::isfinite(s.cameraHeight()) && s.n.allFinite() && s.c.allFinite()) {
+      reference = &s;
+      break;
+    }
+  for (auto& p : points) binned_.push_back({0, 0, p});
+  if (!reference || points.empty() || !(radius > 0)) return;
+  n0_ = reference->n.normalized();
+  e1_ = n0_.unitOrthogonal();
+  e2_ = n0_.cross(e1_);
+  double extent = 0;
+  u_min_ = u_max_ = points.front().dot(n0_);
+  for (const auto& p : points) {
+    const double u = p.dot(n0_);
+    u_min_ = std::min(u_min_, u);
+    u_max_ = std::max(u_max_, u);
+    extent = std::max({extent, std::abs(p.dot(e1_)), std::abs(p.dot(e2_))});
+  }
+  cell_ = std::max(radius * reference->cameraHeight(), extent / kMaxCellsPerAxis);
+  if (!(cell_ > 0) || !std::isfinite(cell_)) return;
+  for (auto& b : binned_) {
+    b.ix = static_cast<long long>(std::floor(b.position.dot(e1_) / cell_));
+    b.iy = static_cast<long long>(std::floor(b.position.dot(e2_) / cell_));
+  }
+  std::sort(binned_.begin(), binned_.end(),
+            [](const Binned& a, const Binned& b) { return lessCell(a.ix, a.iy, b.ix, b.iy); });
+  indexed_ = true;
+}
+
+int BodyPointIndex::bruteForce(const FloorPlane& sample, double radius2) const {
+  int count = 0;
+  for (const auto& b : binned_) count += sample.axisDistanceSquared(b.position) <= radius2;
+  return count;
+}
+
+int BodyPointIndex::count(const FloorPlane& sample, double radius) const {
+  const double kappa = sample.cameraHeight();
+  if (!(kappa > 0)) return 0;
+  const double r = radius * kappa, radius2 = r * r;
+  const double cosine = sample.n.dot(n0_);
+  if (!indexed_ || !(cosine >= kMinAxisCosine) || std::abs(sample.n.norm() - 1) > 1e-9 || !sample.c.allFinite())
+    return bruteForce(sample, radius2);
+  // p = c + t n + e with |e| <= r counts; p.n0 in [u_min, u_max] bounds t, and the
+  // projection of p across n0 then lies within r of the axis segment's projection.
+  const double c_u = sample.c.dot(n0_);
+  const double t_a = (u_min_ - c_u - r) / cosine, t_b = (u_max_ - c_u + r) / cosine;
+  auto span = [&](const Eigen::Vector3d& axis, double* lo, double* hi) {
+    const double c = sample.c.dot(axis), slope = sample.n.dot(axis);
+    const double margin = 1e-9 * (1 + std::abs(c) + std::abs(t_a) + std::abs(t_b) + r);
+    *lo = c + std::min(t_a * slope, t_b * slope) - r - margin;
+    *hi = c + std::max(t_a * slope, t_b * slope) + r + margin;
+  };
+  double a_lo, a_hi, b_lo, b_hi;
+  span(e1_, &a_lo, &a_hi);
+  span(e2_, &b_lo, &b_hi);
+  if (!std::isfinite(a_lo) || !std::isfinite(a_hi) || !std::isfinite(b_lo) || !std::isfinite(b_hi))
+    return bruteForce(sample, radius2);
+  // Cells are clamped to the indexed points' range (a far sample must not loop over
+  // billions of empty cells); a box wider than a 16th of the points is cheaper by brute force.
+  auto cellOf = [&](double v) {
+    return static_cast<long long>(std::floor(std::clamp(v / cell_, -kMaxCellsPerAxis - 1, kMaxCellsPerAxis + 1)));
+  };
+  const long long ix0 = std::max(binned_.front().ix, cellOf(a_lo)), ix1 = std::min(binned_.back().ix, cellOf(a_hi));
+  const long long iy0 = cellOf(b_lo), iy1 = cellOf(b_hi);
+  if (ix1 - ix0 + 1 > static_cast<long long>(binned_.size() / 16) + 1) return bruteForce(sample, radius2);
+  int count = 0;
+  for (long long ix = ix0; ix <= ix1; ++ix) {
+    auto first = std::lower_bound(binned_.begin(), binned_.end(), std::make_pair(ix, iy0),
+                                  [](const Binned& b, const std::pair<long long, long long>& key) {
+                                    return lessCell(b.ix, b.iy, key.first, key.second);
+                                  });
+    for (auto it = first; it != binned_.end() && it->ix == ix && it->iy <= iy1; ++it)
+      count += sample.axisDistanceSquared(it->position) <= radius2;
+  }
+  return count;
+}
+
+}  // namespace valerant

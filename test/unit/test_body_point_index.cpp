@@ -1,0 +1,76 @@
+// The grid index behind eq. 6's counts (body_point_index.h) returns exactly the
+// brute-force counts: on a hand-worked case, and on random clouds with tilted axes,
+// far samples, a runaway-scale outlier and samples without a floor.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "valerant/explore/body_point_index.h"
+
+using namespace valerant;
+
+namespace {
+
+FloorPlane sampleAt(const Eigen::Vector3d& c, const Eigen::Vector3d& n, double kappa) {
+  FloorPlane s;
+  s.n = n.normalized();
+  s.c = c;
+  s.q = c - kappa * s.n;
+  return s;
+}
+
+int bruteForce(const std::vector<Eigen::Vector3d>& points, const FloorPlane& s, double radius) {
+  const double kappa = s.cameraHeight();
+  if (!(kappa > 0)) return 0;
+  int count = 0;
+  for (const auto& p : points) count += s.axisDistanceSquared(p) <= (radius * kappa) * (radius * kappa);
+  return count;
+}
+
+}  // namespace
+
+TEST(BodyPointIndex, HandWorkedCounts) {
+  // Vertical axis through (0, 0), kappa 1, rho 0.5: within 0.5 of the axis are
+  // (0.3, 0, 0.5), (0, 0.49, 1.2) and (0.5, 0, 0.4) (exactly on the boundary, counted);
+  // (0.6, 0, 0.5) and (0.4, 0.4, 0.2) (0.566 away) are outside: 3.
+  const std::vector<Eigen::Vector3d> points = {{0.3, 0, 0.5}, {0, 0.49, 1.2}, {0.5, 0, 0.4}, {0.6, 0, 0.5},
+                                               {0.4, 0.4, 0.2}};
+  const FloorPlane s = sampleAt({0, 0, 1}, Eigen::Vector3d::UnitZ(), 1);
+  const BodyPointIndex index(points, {s}, 0.5);
+  EXPECT_EQ(index.count(s, 0.5), 3);
+  // Moved to x = 0.55: (0.6, 0, 0.5) and (0.5, 0, 0.4) are 0.05 away, (0.3, 0, 0.5) 0.25
+  // and (0.4, 0.4, 0.2) sqrt(0.15^2 + 0.4^2) = 0.427: 4.
+  EXPECT_EQ(index.count(sampleAt({0.55, 0, 1}, Eigen::Vector3d::UnitZ(), 1), 0.5), 4);
+  // No floor (kappa <= 0): 0.
+  EXPECT_EQ(index.count(sampleAt({0, 0, 1}, Eigen::Vector3d::UnitZ(), -1), 0.5), 0);
+}
+
+TEST(BodyPointIndex, EqualsBruteForceOnRandomClouds) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    const double scale = trial % 2 ? 0.05 : 3.0;  // a scaled SLAM map and a metric one
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < 4000; ++i)
+      points.push_back(scale * Eigen::Vector3d(8 * uniform(rng), 8 * uniform(rng), 1.5 * uniform(rng) + 0.75));
+    if (trial % 3 == 0) points.push_back(scale * Eigen::Vector3d(3000, -2000, 40));  // runaway point
+    const Eigen::Vector3d up = Eigen::Vector3d(0.1 * uniform(rng), 0.1 * uniform(rng), 1).normalized();
+    std::vector<FloorPlane> samples;
+    for (int i = 0; i < 40; ++i) {
+      // Axes tilted up to ~25 deg from `up`, now and then 70 deg (brute force path),
+      // some far outside the cloud, one without a floor.
+      const double tilt = i % 13 == 5 ? 3.0 : 0.45;
+      const Eigen::Vector3d n = (up + tilt * Eigen::Vector3d(uniform(rng), uniform(rng), 0)).normalized();
+      const double reach = i % 7 == 3 ? 500 : 8;
+      const Eigen::Vector3d c = scale * Eigen::Vector3d(reach * uniform(rng), reach * uniform(rng), 1);
+      samples.push_back(sampleAt(c, n, i == 11 ? -scale : scale));
+    }
+    for (const double radius : {0.3, 0.42, 1.5}) {
+      const BodyPointIndex index(points, samples, radius);
+      for (size_t i = 0; i < samples.size(); ++i)
+        ASSERT_EQ(index.count(samples[i], radius), bruteForce(points, samples[i], radius))
+            << "trial " << trial << " radius " << radius << " sample " << i;
+    }
+  }
+}
