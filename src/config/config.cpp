@@ -187,6 +187,7 @@ void readPolicy(Section s, PolicyConfig& p) {
   s.number("cells_per_d_fwd", p.cells_per_d_fwd, 1, 1024);
   s.number("budget_steps", p.budget_steps, 1, 100000);
   s.number("step_cap_factor", p.step_cap_factor, 1, 1000);
+  s.number("max_progress", p.max_progress, 0.0, 1e6);
   s.number("goal_weight", p.goal_weight, 0.0, 1e6);
   s.number("obstacle_min_points", p.obstacle_min_points, 1, 1000000);
   s.number("max_cell_rise", p.max_cell_rise, 0.0, 100.0);

@@ -23,6 +23,7 @@ const std::map<std::string, std::vector<std::string>>& configOverrides() {
       {"no-col-depth", {"collision.depth_enabled=false"}},
       {"no-dp", {"dead_pocket.enabled=false"}},
       {"no-prior", {"slam.depth_prior=none"}},
+      {"no-motion-check", {"policy.max_progress=0"}},
       {"oracle", {"slam.backend=oracle"}},
       {"random", {"policy.kind=random"}},
       {"forward", {"policy.kind=forward"}},
@@ -37,6 +38,7 @@ const std::map<std::string, std::vector<std::string>>& configOverrides() {
       {"paper",
        {"policy.grid_cells=128", "policy.goal_weight=0", "policy.short_translation_frames=[]",
         "policy.short_turn_frames=[]", "policy.open_turn=false", "policy.opening_weight=0", "policy.goal_move=false", "policy.max_cell_rise=0",
+        "policy.max_progress=0",
         "collision.previous_steps=0", "collision.prefix_commits=false", "collision.step_height=0",
         "slam.depth_prior=none"}},
   };

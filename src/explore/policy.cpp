@@ -30,6 +30,7 @@ int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& confi
     if (v.collision_depth) reason += "depth collision;";
     if (v.enters_failed) reason += "enters failed region;";
     if (v.short_unclear) reason += "short action not clear to its end;";
+    if (config.max_progress > 0 && !(v.progress <= config.max_progress)) reason += "implausible motion;";
     if (!reason.empty()) reason.pop_back();
     v.reason = reason;
     v.admissible = reason.empty();

@@ -76,6 +76,10 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(paper_row.policy.opening_weight, paper_file.policy.opening_weight);
   EXPECT_EQ(paper_row.policy.goal_move, paper_file.policy.goal_move);
   EXPECT_EQ(paper_row.policy.max_cell_rise, paper_file.policy.max_cell_rise);
+  EXPECT_EQ(paper_row.policy.max_progress, paper_file.policy.max_progress);
+  EXPECT_DOUBLE_EQ(paper_file.policy.max_progress, 0.0);
+  EXPECT_DOUBLE_EQ(full.policy.max_progress, 3.0);
+  EXPECT_DOUBLE_EQ(overridden("no-motion-check").policy.max_progress, 0.0);
   EXPECT_EQ(paper_row.collision.previous_steps, paper_file.collision.previous_steps);
   EXPECT_EQ(paper_row.collision.prefix_commits, paper_file.collision.prefix_commits);
   EXPECT_EQ(paper_row.collision.step_height, paper_file.collision.step_height);

@@ -7,6 +7,7 @@
 #include "valerant/explore/rewind_controller.h"
 #include "valerant/geometry/coverage_grid.h"
 
+#include <cmath>
 #include <set>
 
 using namespace valerant;
@@ -95,6 +96,29 @@ TEST(Policy, ArgmaxOverAdmissibleWithDeterministicTies) {
   EXPECT_EQ(selectBranch(v, config), -1);
   EXPECT_EQ(v[3].reason, "enters failed region");
   EXPECT_EQ(v[4].reason, "slam lost");
+}
+
+TEST(Policy, MotionBeyondMaxProgressIsInadmissible) {
+  PolicyConfig config;  // max_progress 3
+  std::vector<BranchVerdict> v(3);
+  // uw reconstructed 10.6 forward actions away (a scale runaway; 5 * 10.6 + 10 = 63):
+  // it would win eq. 2 but is inadmissible; jw at 2.9 (score 14.5 + 1 = 15.5) is
+  // chosen; exactly 3 is allowed; NaN is not.
+  v[0].candidate = "uw", v[0].coverage = 10, v[0].progress = 10.6;
+  v[1].candidate = "jw", v[1].coverage = 1, v[1].progress = 2.9;
+  v[2].candidate = "lw", v[2].coverage = 0, v[2].progress = 3.0;
+  EXPECT_EQ(selectBranch(v, config), 1);
+  EXPECT_FALSE(v[0].admissible);
+  EXPECT_EQ(v[0].reason, "implausible motion");
+  EXPECT_DOUBLE_EQ(v[1].score, 15.5);
+  EXPECT_TRUE(v[2].admissible);
+  v[2].progress = std::nan("");
+  selectBranch(v, config);
+  EXPECT_FALSE(v[2].admissible);
+  // 0 switches the check off (the paper): uw wins with 63.
+  config.max_progress = 0;
+  EXPECT_EQ(selectBranch(v, config), 0);
+  EXPECT_DOUBLE_EQ(v[0].score, 63.0);
 }
 
 TEST(FailedRegionMemory, EnteringIsLeavingTheStartCellIntoF) {

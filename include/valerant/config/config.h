@@ -73,6 +73,10 @@ struct PolicyConfig {
   int cells_per_d_fwd = 8;       // cell width = d_fwd / 8
   int budget_steps = 15;
   int step_cap_factor = 3;       // at most factor x budget steps, stalls and rewound ones included
+  // [ours] A candidate whose reconstructed motion exceeds this many forward actions is
+  // inadmissible: its keys move the camera at most one (uw), so more is a SLAM scale
+  // runaway, which eq. 2 would otherwise reward; 0: no check (the paper).
+  double max_progress = 3.0;
   // Whole-level exploration [ours] (docs/whole_level.md), off by default: at 15 steps the
   // options raised coverage on the tuning maps but not on the held-out ones; valerant_eval's
   // `whole-level` row turns them on. 0 / empty / false = the paper (config/paper.yaml).

@@ -4,7 +4,8 @@
 // (the bracketed whole-level terms are [ours], 0 by the paper: docs/whole_level.md).
 // A candidate is admissible when neither collision test fired (B = 0), its SLAM did
 // not lose track and it does not enter the failed-region memory ([ours]: and a short
-// translation is clear to its end, branch_verdict.h). Ties go to the
+// translation is clear to its end, branch_verdict.h; and its reconstructed motion P is
+// at most policy.max_progress forward actions: more is a SLAM scale runaway). Ties go to the
 // candidate listed first (the paper's order uw, jw, lw, jq, lq), so a run is
 // deterministic. No admissible candidate: a stall (returns -1).
 //
