@@ -14,7 +14,7 @@ bool lessCell(long long ax, long long ay, long long bx, long long by) { return a
 
 }  // namespace
 
-BodyPointIndex::BodyPointIndex(std::vector<Eigen::Vector3d> points, const std::vector<FloorPlane>& samples,
+BodyPointIndex::BodyPointIndex(const std::vector<Eigen::Vector3d>& points, const std::vector<FloorPlane>& samples,
                                double radius) {
   const FloorPlane* reference = nullptr;
   for (const FloorPlane& s : samples)
@@ -22,7 +22,8 @@ BodyPointIndex::BodyPointIndex(std::vector<Eigen::Vector3d> points, const std::v
       reference = &s;
       break;
     }
-  for (auto& p : points) binned_.push_back({0, 0, p});
+  binned_.reserve(points.size());
+  for (const auto& p : points) binned_.push_back({0, 0, p});
   if (!reference || points.empty() || !(radius > 0)) return;
   n0_ = reference->n.normalized();
   e1_ = n0_.unitOrthogonal();

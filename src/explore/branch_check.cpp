@@ -78,14 +78,18 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
         points.push_back({x, start.normalisedHeight(x), p.confidence});
       }
     }
-    const PointCloudCollision pc = detectPointCloudCollision(points, floors, config_, rotation_only);
+    // Eq. 6 at rho; a prefix also keeps prefix_clearance from the branch's points: rho
+    // leaves the Quake III hull (0.30 to 0.42 eye heights from its axis) touching what
+    // eq. 6 passes.
+    std::vector<double> radii = {config_.body_radius};
+    if (config_.prefix_commits) radii.push_back(config_.prefix_clearance);
+    const std::vector<std::vector<int>> counts = bodyCylinderCounts(points, floors, config_, radii);
+    const PointCloudCollision pc = pointCloudCollisionFromCounts(counts.front(), config_, rotation_only);
     v.collision_pc = pc.collision;
     v.occupied_max = pc.occupied_max;
     if (pc.collision) unsafeAt(pc.run_start);
-    // A prefix also keeps prefix_clearance from the branch's points: rho leaves the
-    // Quake III hull (0.30 to 0.42 eye heights from its axis) touching what eq. 6 passes.
     if (config_.prefix_commits) {
-      const std::vector<int> wide = bodyCylinderCounts(points, floors, config_, config_.prefix_clearance);
+      const std::vector<int>& wide = counts.back();
       for (size_t i = 0; i < wide.size(); ++i)
         if (wide[i] >= config_.n_occ) {
           unsafeAt(static_cast<int>(i));

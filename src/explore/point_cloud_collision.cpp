@@ -3,29 +3,47 @@
 #include "valerant/explore/body_point_index.h"
 #include "valerant/explore/step_support.h"
 
+#include <algorithm>
+
 namespace valerant {
 
-std::vector<int> bodyCylinderCounts(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& samples,
-                                    const CollisionConfig& config, double radius) {
-  if (config.step_height > 0) return steppedBodyCounts(points, samples, config, radius).counts;
+std::vector<std::vector<int>> bodyCylinderCounts(const std::vector<HeightedPoint>& points,
+                                                 const std::vector<FloorPlane>& samples,
+                                                 const CollisionConfig& config, const std::vector<double>& radii) {
+  std::vector<std::vector<int>> counts;
+  if (config.step_height > 0) {
+    for (double radius : radii) counts.push_back(steppedBodyCounts(points, samples, config, radius).counts);
+    return counts;
+  }
+  if (radii.empty()) return counts;
   // Only body-level, confident points can ever count; filter them once. A point with a
   // non-finite coordinate is never within the radius.
   std::vector<Eigen::Vector3d> body;
+  body.reserve(points.size());
   for (const auto& p : points)
     if (p.confidence >= config.min_confidence && p.h >= config.height_low && p.h <= config.height_high &&
         p.position.allFinite())
       body.push_back(p.position);
-  const BodyPointIndex index(body, samples, radius);
-  std::vector<int> counts;
-  for (const FloorPlane& s : samples) counts.push_back(index.count(s, radius));
+  // The cell size from the smallest radius: a larger one only searches a wider box.
+  const BodyPointIndex index(body, samples, *std::min_element(radii.begin(), radii.end()));
+  for (double radius : radii) {
+    std::vector<int>& at_radius = counts.emplace_back();
+    at_radius.reserve(samples.size());
+    for (const FloorPlane& s : samples) at_radius.push_back(index.count(s, radius));
+  }
   return counts;
 }
 
 PointCloudCollision detectPointCloudCollision(const std::vector<HeightedPoint>& points,
                                               const std::vector<FloorPlane>& samples,
                                               const CollisionConfig& config, bool rotation_only) {
+  return pointCloudCollisionFromCounts(bodyCylinderCounts(points, samples, config, {config.body_radius}).front(),
+                                       config, rotation_only);
+}
+
+PointCloudCollision pointCloudCollisionFromCounts(const std::vector<int>& counts, const CollisionConfig& config,
+                                                  bool rotation_only) {
   PointCloudCollision result;
-  const std::vector<int> counts = bodyCylinderCounts(points, samples, config, config.body_radius);
   int run = 0;  // consecutive samples at or above N_occ
   for (size_t i = 0; i < counts.size(); ++i) {
     const int count = counts[i];

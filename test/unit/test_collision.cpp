@@ -90,6 +90,25 @@ TEST(PointCloudCollision, ScaleDriftIsCancelledByNormalisation) {
   EXPECT_EQ(scaled.occupied_max, 50);
 }
 
+TEST(PointCloudCollision, SeveralRadiiFromOneIndex) {
+  CollisionConfig config;
+  // Sample 33 (x = 2.982) of the sparse wall: at rho 0.21 the 5 columns |y| <= 0.2 x 10
+  // body-band rows = 50; at 0.35 the 7 columns |y| <= 0.3 (0.3 < sqrt(0.35^2 - 0.018^2)
+  // = 0.3495 < 0.4) = 70.
+  const auto counts = bodyCylinderCounts(wall(0.1), track(0, 5, 57), config, {0.21, 0.35});
+  ASSERT_EQ(counts.size(), 2u);
+  EXPECT_EQ(counts[0][33], 50);
+  EXPECT_EQ(counts[1][33], 70);
+  // Each radius counts as if alone, for the paper's band and the stepped body.
+  for (double step_height : {0.0, 0.45}) {
+    config.step_height = step_height;
+    const auto both = bodyCylinderCounts(wall(0.1), track(0, 5, 57), config, {0.21, 0.35});
+    EXPECT_EQ(both[0], bodyCylinderCounts(wall(0.1), track(0, 5, 57), config, {0.21}).front());
+    EXPECT_EQ(both[1], bodyCylinderCounts(wall(0.1), track(0, 5, 57), config, {0.35}).front());
+  }
+  EXPECT_TRUE(bodyCylinderCounts(wall(0.1), track(0, 5, 57), config, {}).empty());
+}
+
 TEST(DepthCollision, CentralMeanDepthUsesTheCentralThird) {
   cv::Mat depth(9, 9, CV_32F, cv::Scalar(10.f));
   depth(cv::Rect(3, 3, 3, 3)).setTo(2.f);

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 
 #include "brush_world.h"
 #include "openarena_data.h"
@@ -38,6 +39,9 @@ TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
   const EpisodeTruth truth = evaluateEpisodeTruth(episode, reachable);
   EXPECT_FALSE(truth.aligned);
   ASSERT_TRUE(truth.floor_aligned);
+  // No path to fit, so no ATE (report.json writes null; a grid's mean leaves it out).
+  EXPECT_TRUE(std::isnan(truth.ate_percent));
+  EXPECT_TRUE(std::isnan(truth.alignment_rmse_m));
   // The estimated floor lies within a few centimetres of the true one (RANSAC on the
   // lower envelope of the keyframe clouds): scale 1 within 5%.
   EXPECT_NEAR(truth.alignment_scale, 1.0, 0.05);

@@ -153,7 +153,7 @@ TEST(StepSupport, TheSupportFallsOffADropAndIgnoresWhatIsAboveTheBody) {
 TEST(StepSupport, ThePaperSettingKeepsThePapersCounts) {
   // step_height 0: bodyCylinderCounts is eq. 6 itself (the staircase's first riser
   // counts 20 at sample 15).
-  const auto counts = bodyCylinderCounts(staircase(), track(0, 3, 60), CollisionConfig(), 0.21);
+  const auto counts = bodyCylinderCounts(staircase(), track(0, 3, 60), CollisionConfig(), {0.21}).front();
   EXPECT_EQ(counts[15], 20);
   EXPECT_EQ(counts[16], 51);
 }

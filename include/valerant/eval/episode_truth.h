@@ -11,6 +11,7 @@
 // (|h| < eta_low) then mark 1 m cells. A reachable 1 m cell counts as observed when a
 // floor point falls in it within half a step height of a reachable floor height there.
 #include <Eigen/Geometry>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -47,8 +48,10 @@ struct EpisodeTruth {
   bool floor_aligned = false;    // not aligned, but tied to the world by the first pose and the floor
   Sim3 map_to_world_metres;      // the fitted alignment (identity when neither)
   double alignment_scale = 0;    // metres per map unit
-  double alignment_rmse_m = 0;   // residual of the camera centres after alignment (ATE)
-  double ate_percent = 0;        // ATE as a share of the path length
+  // Residual of the camera centres after the Sim(3) fit (ATE), and as a share of the
+  // path length; NaN unless `aligned` (a floor tie fits no path), null in report.json.
+  double alignment_rmse_m = std::numeric_limits<double>::quiet_NaN();
+  double ate_percent = std::numeric_limits<double>::quiet_NaN();
   int verdicts = 0;              // candidate evaluations with ground truth
   int truly_colliding = 0;       // candidates whose frames penetrate (in solid or outside the world)
   int predicted_colliding = 0;   // candidates rejected by a collision test
@@ -111,8 +114,8 @@ struct EpisodeAlignment {
   bool aligned = false;        // a Sim(3) was fitted
   bool floor_aligned = false;  // not aligned, tied by the first pose and the floor
   Sim3 map_to_world_metres;    // identity when neither
-  double rmse_m = 0;           // ATE of the whole committed path (aligned only)
-  double ate_percent = 0;      // ... as a share of its length
+  double rmse_m = std::numeric_limits<double>::quiet_NaN();  // ATE of the whole committed path (aligned only)
+  double ate_percent = std::numeric_limits<double>::quiet_NaN();  // ... as a share of its length
 };
 EpisodeAlignment alignEpisode(const Episode& episode);
 

@@ -2,8 +2,8 @@
 // The body points of eq. 6 indexed for the per-sample count
 //   count_i = #{p : |(p - c_i) - ((p - c_i).n_i) n_i|^2 <= (rho kappa_i)^2}
 // which, done by brute force, costs samples x points: with the depth prior and the
-// committed steps' points a branch has ~10^5 body points and ~100 samples, and the
-// test ran twice per candidate (rho and the prefix clearance).
+// committed steps' points a branch has ~10^5 body points and ~100 samples, counted at
+// two radii per candidate (rho and the prefix clearance) from one index.
 //
 // The points are binned on a 2D grid in the plane across a reference normal n0 (the
 // first usable sample's). A sample's axis is tilted from n0 by a few degrees at most,
@@ -23,9 +23,10 @@ class BodyPointIndex {
  public:
   // `points`: finite positions; `radius`: normalised (rho), sets the cell size from the
   // first sample with a positive camera height.
-  BodyPointIndex(std::vector<Eigen::Vector3d> points, const std::vector<FloorPlane>& samples, double radius);
+  BodyPointIndex(const std::vector<Eigen::Vector3d>& points, const std::vector<FloorPlane>& samples, double radius);
 
-  // count_i for one sample (0 where its camera height is not positive).
+  // count_i for one sample (0 where its camera height is not positive), at any radius
+  // (a radius larger than the constructor's only makes the searched box wider).
   int count(const FloorPlane& sample, double radius) const;
 
  private:

@@ -32,12 +32,19 @@ struct PointCloudCollision {
   int run_start = -1;    // first sample of the run of occupied samples that fired
 };
 
-// count_i of every sample, with the body radius `radius` (normalised, rho for eq. 6);
-// stepped when config.step_height > 0.
-std::vector<int> bodyCylinderCounts(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& samples,
-                                    const CollisionConfig& config, double radius);
+// count_i of every sample for each body radius in `radii` (normalised, rho for eq. 6):
+// result[r][i]. The points are filtered and indexed once for all radii (the branch
+// check counts at rho and at the prefix clearance); stepped when config.step_height > 0.
+std::vector<std::vector<int>> bodyCylinderCounts(const std::vector<HeightedPoint>& points,
+                                                 const std::vector<FloorPlane>& samples,
+                                                 const CollisionConfig& config, const std::vector<double>& radii);
 
-// `samples`: one floor per trajectory sample, with FloorPlane::c its camera centre.
+// Eq. 6's decision from the counts at rho of every sample.
+PointCloudCollision pointCloudCollisionFromCounts(const std::vector<int>& counts, const CollisionConfig& config,
+                                                  bool rotation_only);
+
+// Both steps at config.body_radius. `samples`: one floor per trajectory sample, with
+// FloorPlane::c its camera centre.
 PointCloudCollision detectPointCloudCollision(const std::vector<HeightedPoint>& points,
                                               const std::vector<FloorPlane>& samples,
                                               const CollisionConfig& config, bool rotation_only);
