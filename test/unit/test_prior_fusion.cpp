@@ -40,6 +40,22 @@ TEST(PriorFusion, ScaleIsTheMedianRatioOverConfidentSweepPixels) {
   EXPECT_FALSE(visual::priorScale(sweep, conf, prior, p));
 }
 
+TEST(PriorFusion, TriangulatedPointsTakeTheirScaleFromThePriorAtTheirPixels) {
+  const PriorFusionParams p;  // 40 m
+  // Prior (metres) along one row; points at pixels 0..5 with depths in two-view units.
+  // Ratios prior / depth: 4/2 = 2, 6/2 = 3, 9/3 = 3, 10/2 = 5; pixel 4's prior (45 m)
+  // is beyond 40, pixel 5's point has depth 0, and (7, 0) is outside the image. Median
+  // of {2, 3, 3, 5} (the upper middle, as priorScale): 3.
+  const cv::Mat prior = image({4, 6, 9, 10, 45, 8});
+  const std::vector<cv::Point2f> pixels = {{0, 0}, {1.2f, 0}, {2, 0.4f}, {3, 0}, {4, 0}, {5, 0}, {7, 0}};
+  const std::vector<double> depths = {2, 2, 3, 2, 1, 0, 1};
+  const auto metres = visual::priorMetresPerUnit(pixels, depths, prior, p, 4);
+  ASSERT_TRUE(metres);
+  EXPECT_DOUBLE_EQ(*metres, 3.0);
+  EXPECT_FALSE(visual::priorMetresPerUnit(pixels, depths, prior, p, 5));  // only 4 usable points
+  EXPECT_THROW(visual::priorMetresPerUnit(pixels, {1.0}, prior, p, 1), InputError);
+}
+
 TEST(PriorFusion, TheMoreConfidentEstimateWinsPerPixel) {
   const PriorFusionParams p;  // gain 0.6, cap 20, 40 m
   // Prior confidence = 0.6 / b: b = 0.15 -> 4, b = 0.1 -> 6, b = 0.01 -> 60, capped at 20.

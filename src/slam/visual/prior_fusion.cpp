@@ -34,6 +34,25 @@ std::optional<double> priorScale(const cv::Mat& sweep_depth, const cv::Mat& swee
   return *mid;
 }
 
+std::optional<double> priorMetresPerUnit(const std::vector<cv::Point2f>& pixels, const std::vector<double>& depths,
+                                         const cv::Mat& prior_m, const PriorFusionParams& params, int min_points) {
+  if (pixels.size() != depths.size())
+    throw InputError("prior scale of triangulated points", "needs one depth per pixel");
+  if (prior_m.type() != CV_32F) throw InputError("prior scale of triangulated points", "prior must be CV_32F");
+  std::vector<double> ratios;
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    const int c = static_cast<int>(std::lround(pixels[i].x)), r = static_cast<int>(std::lround(pixels[i].y));
+    if (r < 0 || c < 0 || r >= prior_m.rows || c >= prior_m.cols || !(depths[i] > 0) || !std::isfinite(depths[i]))
+      continue;
+    const float p = prior_m.at<float>(r, c);
+    if (p > 0 && p <= params.max_depth_m) ratios.push_back(p / depths[i]);
+  }
+  if (ratios.empty() || static_cast<int>(ratios.size()) < min_points) return std::nullopt;
+  auto mid = ratios.begin() + static_cast<long>(ratios.size() / 2);
+  std::nth_element(ratios.begin(), mid, ratios.end());
+  return *mid;
+}
+
 void fusePrior(cv::Mat& depth, cv::Mat& confidence, const cv::Mat& prior_m, const cv::Mat& prior_log_scale,
                double map_per_metre, const PriorFusionParams& params) {
   requireSameSize(depth, prior_m, "prior fusion");

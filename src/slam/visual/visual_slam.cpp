@@ -28,6 +28,10 @@ using visual::Track;
 namespace {
 
 constexpr size_t kMaxPendingFrames = 30;
+// A new triangulation takes its scale from this many map points it shares with the
+// map, else from this many points with a prior depth.
+constexpr size_t kMinScalePoints = 5;
+constexpr int kMinPriorScalePoints = 10;
 
 double quantile(std::vector<double> v, double q) {
   const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())));
@@ -263,18 +267,32 @@ void VisualSlam::initializeMap(Frame& frame, TrackedFrame& out, const visual::Tw
                                const std::vector<size_t>& which) {
   State& s = state_;
   auto& tracks = s.tracker.tracks();
-  // Scale: from map points seen by both views if there are some, else the last
-  // median scene depth (1 for the first map).
+  // Scale: from map points seen by both views if there are some; else, with the prior,
+  // the map's units per metre (set by the prior since the first frame) times the
+  // prior's metres at the points in frame b; else the last median scene depth (1 for
+  // the first map). Without the prior's step the first map's scale was its features'
+  // median depth, while the floor (and the coverage grid's cells) had the prior's
+  // scale of the whole image: 3 to 5 times apart on held-out maps (docs/motion_check.md).
   const Eigen::Isometry3d reference = s.reference.camera_to_map;
   const Eigen::Isometry3d map_to_reference = reference.inverse();
-  std::vector<double> ratios, depths;
+  const Eigen::Isometry3d a_to_b = two_view.b_to_a.inverse();
+  std::vector<double> ratios, depths, depths_b;
+  std::vector<cv::Point2f> pixels_b;
   for (size_t j = 0; j < two_view.indices.size(); ++j) {
     const Track& t = tracks[which[two_view.indices[j]]];
     depths.push_back(two_view.points[j].z());
+    depths_b.push_back((a_to_b * two_view.points[j]).z());
+    pixels_b.push_back(b[two_view.indices[j]]);
     if (t.point >= 0 && s.map.points[t.point])
       ratios.push_back((map_to_reference * s.map.points[t.point]->position).z() / two_view.points[j].z());
   }
-  const double scale = ratios.size() >= 5 ? quantile(ratios, 0.5) : s.median_depth / quantile(depths, 0.5);
+  std::optional<double> metres_per_unit;
+  if (ratios.size() < kMinScalePoints && prior_ && s.map_per_metre > 0)
+    metres_per_unit = visual::priorMetresPerUnit(pixels_b, depths_b, prior_->predict(frame.rgb).resized(frame.rgb.size()).depth_m,
+                                                 config_.visual.prior.fusion, kMinPriorScalePoints);
+  const double scale = ratios.size() >= kMinScalePoints ? quantile(ratios, 0.5)
+                       : metres_per_unit             ? *metres_per_unit * s.map_per_metre
+                                                     : s.median_depth / quantile(depths, 0.5);
   Eigen::Isometry3d b_to_a = two_view.b_to_a;
   b_to_a.translation() *= scale;
   frame.pose = reference * b_to_a;
