@@ -489,6 +489,7 @@ Config ConfigDocument::parse() const {
   exports.number("mesh_min_angle_deg", c.exports.mesh_min_angle_deg, 0.0, 60.0);
   exports.number("mesh_max_angle_deg", c.exports.mesh_max_angle_deg, 60.0, 180.0);
   exports.number("normal_neighbours", c.exports.normal_neighbours, 3, 10000);
+  exports.number("mesh_max_points", c.exports.mesh_max_points, 1000, 100000000);
   exports.number("walkable_cell_fraction", c.exports.walkable_cell_fraction, 0.01, 10.0);
   exports.number("walkable_min_area_m2", c.exports.walkable_min_area_m2, 0.0, 1e6);
   exports.number("walkable_close_cells", c.exports.walkable_close_cells, 0, 100);

@@ -32,7 +32,34 @@ Eigen::Matrix3d bestRotation(const std::vector<Eigen::Isometry3d>& estimate, con
   return svd.matrixU() * d * svd.matrixV().transpose();
 }
 
+// The centres' second principal axis carries less than this share of the first's
+// extent: a line, whose roll positions cannot fix.
+constexpr double kCollinearRatio = 0.1;
+
+bool collinear(const Eigen::Matrix3Xd& m) {
+  const Eigen::Matrix3Xd centred = m.colwise() - m.rowwise().mean();
+  const Eigen::Vector3d s = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
+  return s(1) < kCollinearRatio * s(0);
+}
+
 }  // namespace
+
+std::optional<Sim3> alignSim3ByOrientation(const std::vector<Eigen::Isometry3d>& estimate,
+                                           const std::vector<Eigen::Isometry3d>& truth) {
+  std::vector<Eigen::Vector3d> est, gt;
+  for (const auto& p : estimate) est.push_back(p.translation());
+  for (const auto& p : truth) gt.push_back(p.translation());
+  alignSim3(est, gt);  // the same checks of lengths and spread
+  Sim3 out;
+  out.rotation = bestRotation(estimate, truth);
+  const Eigen::Matrix3Xd src = columns(est), dst = columns(gt);
+  const Eigen::Vector3d src_mean = src.rowwise().mean(), dst_mean = dst.rowwise().mean();
+  const Eigen::Matrix3Xd a = out.rotation * (src.colwise() - src_mean), b = dst.colwise() - dst_mean;
+  out.scale = (a.cwiseProduct(b)).sum() / a.squaredNorm();
+  if (!(out.scale > 0)) return std::nullopt;
+  out.translation = dst_mean - out.scale * (out.rotation * src_mean);
+  return out;
+}
 
 Sim3 alignSim3(const std::vector<Eigen::Vector3d>& estimate, const std::vector<Eigen::Vector3d>& truth) {
   if (estimate.size() != truth.size())
@@ -67,7 +94,9 @@ TrajectoryError trajectoryError(const std::vector<Eigen::Isometry3d>& estimate,
   e.aligned = est.size() >= 3 && spread(src) >= kMinSpread;
   double sum = 0;
   if (e.aligned) {
-    e.alignment = alignSim3(est, gt);
+    const std::optional<Sim3> by_orientation =
+        collinear(src) ? alignSim3ByOrientation(estimate, truth) : std::nullopt;
+    e.alignment = by_orientation ? *by_orientation : alignSim3(est, gt);
     for (size_t i = 0; i < est.size(); ++i) sum += (e.alignment.apply(est[i]) - gt[i]).squaredNorm();
   } else {
     // A camera that never moved maps to one point at best: the truth's centroid.

@@ -149,9 +149,15 @@ nlohmann::json exportRunMap(const RunMap& run, const std::vector<std::string>& f
   if (wanted("obj") || wanted("glb") || wanted("png")) {
     std::vector<Eigen::Vector3d> viewpoints;
     for (const auto& kf : run.map.keyframes()) viewpoints.push_back(kf->camera_to_map.translation());
-    const SurfaceMesh mesh = transformMesh(triangulateCloud(cloud, viewpoints, meshParams(config.exports, voxel)),
-                                           run.frame.mapToAsset());
-    result["mesh"] = {{"vertices", mesh.positions.size()}, {"triangles", mesh.triangles.size()}};
+    const MeshCloud mesh_cloud =
+        meshCloud(cloud, voxel, static_cast<size_t>(config.exports.mesh_max_points),
+                  [&](double leaf) { return run.map.voxelCloud(leaf); });
+    const SurfaceMesh mesh = transformMesh(
+        triangulateCloud(mesh_cloud.points, viewpoints, meshParams(config.exports, mesh_cloud.leaf)),
+        run.frame.mapToAsset());
+    result["mesh"] = {{"vertices", mesh.positions.size()},
+                      {"triangles", mesh.triangles.size()},
+                      {"leaf_m", mesh_cloud.leaf * run.frame.metres_per_unit}};
     const AssetNodes nodes = assetNodes(run);
     auto meshFormat = [&](const char* format, const std::function<void()>& write) {
       if (!wanted(format)) return;

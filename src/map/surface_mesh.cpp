@@ -38,6 +38,17 @@ SurfaceMesh keepTriangles(const SurfaceMesh& mesh, Keep keep) {
 
 }  // namespace
 
+MeshCloud meshCloud(std::vector<FusedPoint> cloud, double voxel, size_t max_points,
+                    const std::function<std::vector<FusedPoint>(double)>& voxel_cloud) {
+  constexpr int kMaxCoarsenings = 64;  // 1.25^64 ~ 1.6e6 times the leaf
+  MeshCloud out{std::move(cloud), voxel};
+  for (int k = 0; k < kMaxCoarsenings && out.points.size() > max_points; ++k) {
+    out.leaf *= 1.25;
+    out.points = voxel_cloud(out.leaf);
+  }
+  return out;
+}
+
 MeshParams meshParams(const ExportConfig& config, double voxel_size) {
   MeshParams p;
   p.max_edge = config.mesh_radius_voxels * voxel_size;

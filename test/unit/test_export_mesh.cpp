@@ -5,6 +5,7 @@
 #include <tiny_gltf.h>
 #include <tiny_obj_loader.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 
@@ -108,6 +109,37 @@ TEST(ExportMesh, TriangulatesTheRoomFacingTheCamera) {
   EXPECT_EQ(facing, static_cast<int>(mesh.triangles.size()));  // counter-clockwise seen from inside
   for (size_t i = 0; i < mesh.positions.size(); ++i)
     EXPECT_NEAR(mesh.heights[i], mesh.positions[i].z() / kEye, 0.05);  // h carried over per vertex
+}
+
+TEST(ExportMesh, ALargeCloudIsMeshedAtACoarserLeaf) {
+  // A 1 x 1 square of floor sampled at `leaf`: (1 / leaf)^2 points.
+  std::vector<double> asked;
+  auto floor_at = [&](double leaf) {
+    asked.push_back(leaf);
+    std::vector<FusedPoint> points;
+    const int n = static_cast<int>(std::lround(1.0 / leaf));
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        FusedPoint p;
+        p.position = Eigen::Vector3f((i + 0.5f) / n, 0, (j + 0.5f) / n);
+        points.push_back(p);
+      }
+    return points;
+  };
+  // Leaf 0.01: 10,000 points. Budget 5,000: 0.0125 gives 80^2 = 6,400, too many;
+  // 0.015625 gives 64^2 = 4,096.
+  const MeshCloud coarse = meshCloud(floor_at(0.01), 0.01, 5000, floor_at);
+  EXPECT_NEAR(coarse.leaf, 0.015625, 1e-15);
+  EXPECT_EQ(coarse.points.size(), 4096u);
+  ASSERT_EQ(asked.size(), 3u);  // the caller's cloud, then two coarser ones
+  EXPECT_NEAR(asked[1], 0.0125, 1e-15);
+  EXPECT_NEAR(asked[2], 0.015625, 1e-15);
+  // Within the budget: the cloud as it is, nothing recomputed.
+  asked.clear();
+  const MeshCloud same = meshCloud(floor_at(0.01), 0.01, 10000, floor_at);
+  EXPECT_DOUBLE_EQ(same.leaf, 0.01);
+  EXPECT_EQ(same.points.size(), 10000u);
+  EXPECT_EQ(asked.size(), 1u);
 }
 
 TEST(ExportMesh, AssetFrameIsMetresYUp) {

@@ -73,6 +73,37 @@ TEST(VisualMetrics, AteOfTransformedCopyIsZeroAndNoiseShows) {
   EXPECT_NEAR(e.ate_percent, 100 * e.ate_rmse / e.path_length, 1e-12);
 }
 
+TEST(VisualMetrics, APathAlongALineTakesItsRollFromTheOrientations) {
+  // Walking a corridor forth and back: every centre on the z axis (off it by 1e-4 in x
+  // and y, alternating), the camera turning about y on the way. Positions fix neither
+  // the roll about the line nor, through the noise, anything else; the cameras'
+  // orientation does.
+  std::vector<Eigen::Isometry3d> line;
+  for (int i = 0; i < 40; ++i) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = Eigen::AngleAxisd(0.08 * i, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    p.translation() = Eigen::Vector3d(0, 0, i < 20 ? 0.3 * i : 0.3 * (39 - i));
+    line.push_back(p);
+  }
+  const Sim3 s = knownSim3();
+  const auto truth = transformed(line, s);
+  auto estimate = line;
+  for (int i = 0; i < 40; ++i) estimate[i].translation() += Eigen::Vector3d(i % 2 ? 1e-4 : -1e-4, i % 3 ? 1e-4 : -1e-4, 0);
+  const auto by_orientation = alignSim3ByOrientation(estimate, truth);
+  ASSERT_TRUE(by_orientation);
+  EXPECT_LT(Eigen::AngleAxisd(by_orientation->rotation.transpose() * s.rotation).angle(), 1e-9);
+  EXPECT_NEAR(by_orientation->scale, s.scale, 1e-3 * s.scale);
+  const TrajectoryError e = trajectoryError(estimate, truth);
+  ASSERT_TRUE(e.aligned);
+  EXPECT_LT(Eigen::AngleAxisd(e.alignment.rotation.transpose() * s.rotation).angle(), 1e-9);
+  // The residual is the noise, scaled: at most sqrt(2) 1e-4 x 18.8.
+  EXPECT_LT(e.ate_rmse, 1.5e-4 * s.scale);
+  // The same path run backwards against its orientations has no positive scale.
+  auto reversed = estimate;
+  for (auto& p : reversed) p.translation() = -p.translation();
+  EXPECT_FALSE(alignSim3ByOrientation(reversed, truth));
+}
+
 TEST(VisualMetrics, TurningInPlaceNeedsNoSim3) {
   std::vector<Eigen::Isometry3d> est, gt;
   for (int i = 0; i < 10; ++i) {

@@ -174,6 +174,7 @@ struct ExportConfig {
   double mesh_min_angle_deg = 10;     // triangle angles kept in [min, max]
   double mesh_max_angle_deg = 120;
   int normal_neighbours = 16;         // points in a normal's PCA neighbourhood
+  int mesh_max_points = 400000;       // a larger voxel cloud is meshed at a coarser leaf
   double walkable_cell_fraction = 0.25;  // walkable raster cell, as a fraction of a coverage cell
   double walkable_min_area_m2 = 1.0;  // smaller walkable islands are dropped
   int walkable_close_cells = 2;       // unobserved gaps this many cells wide in the floor count as floor

@@ -5,6 +5,7 @@
 // whole sequence (monocular depth has an arbitrary scale).
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 namespace valerant {
@@ -22,6 +23,14 @@ struct Sim3 {
 // scale can be fitted).
 Sim3 alignSim3(const std::vector<Eigen::Vector3d>& estimate, const std::vector<Eigen::Vector3d>& truth);
 
+// The Sim(3) of a path whose camera centres lie on a line: positions fix the line's
+// direction, scale and offset, but not the roll about it (Umeyama picks it from noise,
+// and a floor can end up as a wall). The rotation is then the cameras' mean relative
+// orientation (chordal L2), scale and translation the least squares given it; nullopt
+// when that scale is not positive (the path runs against the orientations). Throws
+// InputError as alignSim3 does.
+std::optional<Sim3> alignSim3ByOrientation(const std::vector<Eigen::Isometry3d>& estimate, const std::vector<Eigen::Isometry3d>& truth);
+
 struct TrajectoryError {
   int frames = 0;
   double path_length = 0;        // of the truth, in its units
@@ -32,7 +41,9 @@ struct TrajectoryError {
   double rotation_rmse_deg = 0;  // after the best rotation between the two trajectories
 };
 
-// Camera poses (camera_to_world) of the same frames. Throws InputError for different
+// Camera poses (camera_to_world) of the same frames; aligned by alignSim3, or by
+// alignSim3ByOrientation when the estimated centres are collinear (their second
+// principal extent under a tenth of the first) and it gives a positive scale. Throws InputError for different
 // lengths or an empty trajectory.
 TrajectoryError trajectoryError(const std::vector<Eigen::Isometry3d>& estimate,
                                 const std::vector<Eigen::Isometry3d>& truth);

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "valerant/config/config.h"
@@ -32,6 +33,16 @@ struct MeshParams {
   double max_angle_deg = 120;
   int normal_neighbours = 16;
 };
+
+// The cloud a mesh is built from: `cloud` (the voxel cloud at leaf `voxel`) when it has
+// at most `max_points` points, else `voxel_cloud(leaf)` at the first leaf voxel x 1.25^k
+// (k = 1, 2, ..., at most 64) that has. GP3's time grows with its points.
+struct MeshCloud {
+  std::vector<FusedPoint> points;
+  double leaf = 0;  // map units
+};
+MeshCloud meshCloud(std::vector<FusedPoint> cloud, double voxel, size_t max_points,
+                    const std::function<std::vector<FusedPoint>(double)>& voxel_cloud);
 
 // Params from the config for a cloud voxel-filtered with leaf `voxel_size` (map units).
 MeshParams meshParams(const ExportConfig& config, double voxel_size);
