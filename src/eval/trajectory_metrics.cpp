@@ -42,6 +42,15 @@ bool collinear(const Eigen::Matrix3Xd& m) {
   return s(1) < kCollinearRatio * s(0);
 }
 
+// alignSim3's preconditions: matched lengths, at least 3 points, a spread estimate.
+void requireAlignable(const std::vector<Eigen::Vector3d>& estimate, const std::vector<Eigen::Vector3d>& truth) {
+  if (estimate.size() != truth.size())
+    throw InputError("Sim(3) alignment", "estimate has " + std::to_string(estimate.size()) + " points, truth " +
+                                             std::to_string(truth.size()));
+  if (estimate.size() < 3) throw InputError("Sim(3) alignment", "needs at least 3 matched points");
+  if (spread(columns(estimate)) < kMinSpread) throw InputError("Sim(3) alignment", "estimated points do not spread");
+}
+
 }  // namespace
 
 std::optional<Sim3> alignSim3ByOrientation(const std::vector<Eigen::Isometry3d>& estimate,
@@ -49,7 +58,7 @@ std::optional<Sim3> alignSim3ByOrientation(const std::vector<Eigen::Isometry3d>&
   std::vector<Eigen::Vector3d> est, gt;
   for (const auto& p : estimate) est.push_back(p.translation());
   for (const auto& p : truth) gt.push_back(p.translation());
-  alignSim3(est, gt);  // the same checks of lengths and spread
+  requireAlignable(est, gt);
   Sim3 out;
   out.rotation = bestRotation(estimate, truth);
   const Eigen::Matrix3Xd src = columns(est), dst = columns(gt);
@@ -62,12 +71,8 @@ std::optional<Sim3> alignSim3ByOrientation(const std::vector<Eigen::Isometry3d>&
 }
 
 Sim3 alignSim3(const std::vector<Eigen::Vector3d>& estimate, const std::vector<Eigen::Vector3d>& truth) {
-  if (estimate.size() != truth.size())
-    throw InputError("Sim(3) alignment", "estimate has " + std::to_string(estimate.size()) + " points, truth " +
-                                             std::to_string(truth.size()));
-  if (estimate.size() < 3) throw InputError("Sim(3) alignment", "needs at least 3 matched points");
+  requireAlignable(estimate, truth);
   const Eigen::Matrix3Xd src = columns(estimate), dst = columns(truth);
-  if (spread(src) < kMinSpread) throw InputError("Sim(3) alignment", "estimated points do not spread");
   const Eigen::Matrix4d t = Eigen::umeyama(src, dst, true);
   Sim3 out;
   out.scale = t.topLeftCorner<3, 3>().col(0).norm();

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <utility>
 
 #include "valerant/common/contact_sheet.h"
 #include "valerant/common/error.h"
@@ -104,7 +105,7 @@ nlohmann::json exportRunMap(const RunMap& run, const std::vector<std::string>& f
   const Config& config = run.config;
   const double kappa = run.frame.eye_height;
   const double voxel = config.map.voxel_eye_heights * kappa;
-  const std::vector<FusedPoint> cloud = run.map.voxelCloud(voxel);
+  std::vector<FusedPoint> cloud = run.map.voxelCloud(voxel);  // moved into the mesh, its last use
   nlohmann::json files = nlohmann::json::array(), skipped = nlohmann::json::object();
   auto wrote = [&](const char* format) {
     for (const auto& name : filesOf(format)) files.push_back(name);
@@ -150,7 +151,7 @@ nlohmann::json exportRunMap(const RunMap& run, const std::vector<std::string>& f
     std::vector<Eigen::Vector3d> viewpoints;
     for (const auto& kf : run.map.keyframes()) viewpoints.push_back(kf->camera_to_map.translation());
     const MeshCloud mesh_cloud =
-        meshCloud(cloud, voxel, static_cast<size_t>(config.exports.mesh_max_points),
+        meshCloud(std::move(cloud), voxel, static_cast<size_t>(config.exports.mesh_max_points),
                   [&](double leaf) { return run.map.voxelCloud(leaf); });
     const SurfaceMesh mesh = transformMesh(
         triangulateCloud(mesh_cloud.points, viewpoints, meshParams(config.exports, mesh_cloud.leaf)),
