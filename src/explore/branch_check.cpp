@@ -7,9 +7,9 @@
 
 namespace valerant {
 
-BranchCheck::BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> committed)
+BranchCheck::BranchCheck(const Config& config, CommittedSteps committed)
     : config_(config.collision),
-      committed_(config.collision.previous_steps > 0 ? std::move(committed) : nullptr),
+      committed_(config.collision.previous_steps > 0 ? std::move(committed) : CommittedSteps{}),
       d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units) {}
 
 void BranchCheck::add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor) {
@@ -62,7 +62,8 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     const FloorPlane& start = floors.front();
     const bool stepped = config_.step_height > 0;
     std::vector<HeightedPoint> points;
-    size_t total = committed_ ? committed_->size() : 0;
+    size_t total = 0;
+    for (const auto& step : committed_) total += step->size();
     for (const KeyframePoints& kf : keyframes_) total += kf.points.size();
     points.reserve(total);
     for (const KeyframePoints& kf : keyframes_)
@@ -70,13 +71,14 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
         const FloorPlane& datum = stepped ? start : floors[kf.frame];
         points.push_back({p.position.cast<double>(), datum.normalisedHeight(p.position.cast<double>()), p.confidence});
       }
-    if (committed_ && start.cameraHeight() > 0) {
+    if (start.cameraHeight() > 0) {
       const double radius = config_.body_radius * start.cameraHeight();
-      for (const auto& p : *committed_) {
-        const Eigen::Vector3d x = p.position.cast<double>();
-        if (start.axisDistanceSquared(x) <= radius * radius) continue;  // beside the body already
-        points.push_back({x, start.normalisedHeight(x), p.confidence});
-      }
+      for (const auto& step : committed_)
+        for (const auto& p : *step) {
+          const Eigen::Vector3d x = p.position.cast<double>();
+          if (start.axisDistanceSquared(x) <= radius * radius) continue;  // beside the body already
+          points.push_back({x, start.normalisedHeight(x), p.confidence});
+        }
     }
     // Eq. 6 at rho; a prefix also keeps prefix_clearance from the branch's points: rho
     // leaves the Quake III hull (0.30 to 0.42 eye heights from its axis) touching what

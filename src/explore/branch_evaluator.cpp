@@ -24,7 +24,7 @@ class Stopwatch {
 }  // namespace
 
 BranchResult evaluateBranch(Rollout rollout, bool rotation_only, std::unique_ptr<Slam> slam, FloorEstimator floor,
-                            std::shared_ptr<const std::vector<CloudPoint>> committed, const Config& config) {
+                            CommittedSteps committed, const Config& config) {
   BranchResult out;
   out.rollout = std::move(rollout);
   BranchCheck check(config, std::move(committed));

@@ -12,10 +12,7 @@ void CommittedPoints::add(const std::vector<KeyframeCloud>& keyframes) {
     for (const CloudPoint& p : kf.points)
       if (p.confidence >= min_confidence_) step->push_back(p);
   steps_.push_back(std::move(step));
-  while (static_cast<int>(steps_.size()) > steps_kept_) steps_.pop_front();
-  auto merged = std::make_shared<std::vector<CloudPoint>>();
-  for (const auto& s : steps_) merged->insert(merged->end(), s->begin(), s->end());
-  merged_ = std::move(merged);
+  if (static_cast<int>(steps_.size()) > steps_kept_) steps_.erase(steps_.begin(), steps_.end() - steps_kept_);
 }
 
 }  // namespace valerant

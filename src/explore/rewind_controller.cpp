@@ -8,8 +8,14 @@ std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Ce
                                                    bool rotation_only, const std::set<Cell>& cells) {
   const bool translational = committed && !rotation_only;
   stalled_ = translational ? 0 : stalled_ + 1;
-  steps_.push_back({checkpoint, start_cell, translational, committed ? cells : std::set<Cell>{}});
+  steps_.push_back({checkpoint, start_cell, translational, translational, committed ? cells : std::set<Cell>{}});
   std::vector<uint64_t> released;
+  if (!translational) released.push_back(checkpoint);
+  if (!rewindsLeft()) {  // no rewind can follow: nothing to keep
+    releaseAll(released);
+    steps_.clear();
+    return released;
+  }
   if (!translational) return released;
   // Keep the steps from the oldest retained anchor on; release what lies before it.
   int anchors = 0;
@@ -18,16 +24,24 @@ std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Ce
     if (steps_[i].translational && ++anchors > config_.checkpoints_kept) break;
     keep_from = i;
   }
-  for (size_t i = 0; i < keep_from; ++i) released.push_back(steps_[i].checkpoint);
+  for (size_t i = 0; i < keep_from; ++i)
+    if (steps_[i].held) released.push_back(steps_[i].checkpoint);
   steps_.erase(steps_.begin(), steps_.begin() + keep_from);
   return released;
 }
 
+void RewindController::releaseAll(std::vector<uint64_t>& released) {
+  for (Step& s : steps_)
+    if (s.held) {
+      released.push_back(s.checkpoint);
+      s.held = false;
+    }
+}
+
 std::optional<RewindDecision> RewindController::check() {
-  if (!config_.enabled || stalled_ < config_.rotation_only_steps || rewinds_ >= config_.max_rewinds)
-    return std::nullopt;
+  if (!rewindsLeft() || stalled_ < config_.rotation_only_steps) return std::nullopt;
   // The most recent anchor: the last translational step.
-  auto anchor = std::find_if(steps_.rbegin(), steps_.rend(), [](const Step& s) { return s.translational; });
+  auto anchor = std::find_if(steps_.rbegin(), steps_.rend(), [](const Step& s) { return s.held; });
   if (anchor == steps_.rend()) return std::nullopt;
   RewindDecision d;
   const auto first = anchor.base() - 1;  // forward iterator to the anchor step
@@ -49,21 +63,26 @@ std::vector<uint64_t> RewindController::apply(const RewindDecision& decision) {
   auto first = std::find_if(steps_.begin(), steps_.end(),
                             [&](const Step& s) { return s.checkpoint == decision.checkpoint; });
   // The anchor's own checkpoint is consumed too: the next rewind reaches further back.
-  for (auto it = first; it != steps_.end(); ++it) released.push_back(it->checkpoint);
+  for (auto it = first; it != steps_.end(); ++it)
+    if (it->held) released.push_back(it->checkpoint);
   steps_.erase(first, steps_.end());
   stalled_ = 0;
   ++rewinds_;
+  if (!rewindsLeft()) {
+    releaseAll(released);
+    steps_.clear();
+  }
   return released;
 }
 
 bool RewindController::canRewindLater() const {
-  return config_.enabled && rewinds_ < config_.max_rewinds &&
-         std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.translational; });
+  return rewindsLeft() && std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.held; });
 }
 
 std::vector<uint64_t> RewindController::retained() const {
   std::vector<uint64_t> ids;
-  for (const auto& s : steps_) ids.push_back(s.checkpoint);
+  for (const auto& s : steps_)
+    if (s.held) ids.push_back(s.checkpoint);
   return ids;
 }
 

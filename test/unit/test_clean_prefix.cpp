@@ -68,17 +68,17 @@ TEST(CleanPrefix, MarginIsHorizontal) {
 // the 0.05 units of min_advance 0.1.
 namespace {
 
-std::shared_ptr<const std::vector<CloudPoint>> wallFromZ03() {
+CommittedSteps wallFromZ03() {
   auto wall = std::make_shared<std::vector<CloudPoint>>();
   for (int i = 30; i <= 90; ++i)
     for (double y : {0.05, 0.15, 0.25, 0.35})
       wall->push_back({Eigen::Vector3f(0.08f, static_cast<float>(y), 0.01f * i), {}, 10.f});
-  return wall;
+  return {wall};
 }
 
 // The walk of test_committed_points.cpp (z = 0 .. 0.9, kappa 0.5) beside `wall`,
 // the SLAM lost from frame `lost_from` on.
-BranchVerdict walkBeside(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> wall,
+BranchVerdict walkBeside(const Config& config, CommittedSteps wall,
                          bool rotation_only, int lost_from = 10) {
   BranchCheck check(config, std::move(wall));
   for (int i = 0; i < 10; ++i) {
@@ -132,14 +132,14 @@ TEST(CleanPrefix, BranchCheckCutsBeforeALostFrameOnlyWithAWallSeen) {
   config.collision.prefix_margin = 0.5;
   config.collision.prefix_min_advance = 0.1;
   config.collision.prefix_clearance = 0.2;
-  auto walk = [&](std::shared_ptr<const std::vector<CloudPoint>> wall, int lost_from) {
+  auto walk = [&](CommittedSteps wall, int lost_from) {
     return walkBeside(config, std::move(wall), false, lost_from);
   };
   const BranchVerdict behind = walk(wallFromZ03(), 6);
   EXPECT_TRUE(behind.slam_lost && behind.collision_pc);
   EXPECT_EQ(behind.prefix_frames, 2);
   EXPECT_EQ(walk(wallFromZ03(), 3).prefix_frames, 0);
-  const BranchVerdict blind = walk(nullptr, 6);
+  const BranchVerdict blind = walk({}, 6);
   EXPECT_TRUE(blind.slam_lost);
   EXPECT_FALSE(blind.collision_pc || blind.collision_depth);
   EXPECT_EQ(blind.prefix_frames, 0);

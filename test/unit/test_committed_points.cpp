@@ -26,8 +26,18 @@ KeyframeCloud wallCloud(double z0, double z1) {
   return cloud;
 }
 
-std::shared_ptr<const std::vector<CloudPoint>> wall(double z0, double z1) {
-  return std::make_shared<std::vector<CloudPoint>>(wallCloud(z0, z1).points);
+CommittedSteps wall(double z0, double z1) {
+  return {std::make_shared<std::vector<CloudPoint>>(wallCloud(z0, z1).points)};
+}
+
+// The kept steps' x coordinates, step by step.
+std::vector<std::vector<float>> xs(const CommittedSteps& steps) {
+  std::vector<std::vector<float>> out;
+  for (const auto& step : steps) {
+    out.emplace_back();
+    for (const CloudPoint& p : *step) out.back().push_back(p.position.x());
+  }
+  return out;
 }
 
 KeyframeCloud pointAtX(float x, float confidence) {
@@ -37,7 +47,7 @@ KeyframeCloud pointAtX(float x, float confidence) {
 }
 
 // A forward branch with no keyframe points of its own.
-BranchVerdict walk(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> previous, bool rotation_only) {
+BranchVerdict walk(const Config& config, CommittedSteps previous, bool rotation_only) {
   BranchCheck check(config, std::move(previous));
   for (int i = 0; i < 10; ++i) {
     const TrackedFrame f = trackedAtZ(0.1 * i);
@@ -56,7 +66,7 @@ TEST(CommittedPoints, WallBesideThePathIsACollision) {
   EXPECT_TRUE(with.collision_pc);
   EXPECT_EQ(with.occupied_max, 52);
   // The branch's own points alone show nothing.
-  EXPECT_FALSE(walk(Config(), nullptr, false).collision_pc);
+  EXPECT_FALSE(walk(Config(), {}, false).collision_pc);
   Config off;
   off.collision.previous_steps = 0;
   EXPECT_FALSE(walk(off, wall(0.3, 0.9), false).collision_pc);
@@ -78,12 +88,9 @@ TEST(CommittedPoints, KeepsOnlyConfidentKeyframePoints) {
   a.points = {{Eigen::Vector3f(1, 0, 0), {}, 10.f}, {Eigen::Vector3f(2, 0, 0), {}, 1.f}};
   b.points = {{Eigen::Vector3f(3, 0, 0), {}, 4.f}};
   CommittedPoints committed(Config().collision);
-  EXPECT_EQ(committed.points(), nullptr);
+  EXPECT_TRUE(committed.points().empty());
   committed.add({a, b});
-  const auto kept = committed.points();
-  ASSERT_EQ(kept->size(), 2u);
-  EXPECT_FLOAT_EQ((*kept)[0].position.x(), 1.f);
-  EXPECT_FLOAT_EQ((*kept)[1].position.x(), 3.f);
+  EXPECT_EQ(xs(committed.points()), (std::vector<std::vector<float>>{{1.f, 3.f}}));
 }
 
 // previous_steps = 2 after three steps with one point each (x = 1, 2, 3): the two
@@ -94,27 +101,25 @@ TEST(CommittedPoints, KeepsTheLatestSteps) {
   CommittedPoints committed(config);
   for (float x : {1.f, 2.f, 3.f}) committed.add({pointAtX(x, 10.f)});
   EXPECT_EQ(committed.steps(), 2);
-  const auto kept = committed.points();
-  ASSERT_EQ(kept->size(), 2u);
-  EXPECT_FLOAT_EQ((*kept)[0].position.x(), 2.f);
-  EXPECT_FLOAT_EQ((*kept)[1].position.x(), 3.f);
+  EXPECT_EQ(xs(committed.points()), (std::vector<std::vector<float>>{{2.f}, {3.f}}));
 
   config.previous_steps = 0;
   CommittedPoints none(config);
   none.add({pointAtX(1.f, 10.f)});
   EXPECT_EQ(none.steps(), 0);
-  EXPECT_EQ(none.points(), nullptr);
+  EXPECT_TRUE(none.points().empty());
 }
 
-// A checkpoint holds a copy: steps committed after it do not reach it.
+// A checkpoint holds a copy: steps committed after it do not reach it, and the step
+// both hold is one set in memory, not two.
 TEST(CommittedPoints, ACopyIsACheckpoint) {
   CommittedPoints committed(Config().collision);
   committed.add({pointAtX(1.f, 10.f)});
   const CommittedPoints saved = committed;
   committed.add({pointAtX(2.f, 10.f)});
-  EXPECT_EQ(committed.points()->size(), 2u);
-  ASSERT_EQ(saved.points()->size(), 1u);
-  EXPECT_FLOAT_EQ((*saved.points())[0].position.x(), 1.f);
+  EXPECT_EQ(xs(committed.points()), (std::vector<std::vector<float>>{{1.f}, {2.f}}));
+  EXPECT_EQ(xs(saved.points()), (std::vector<std::vector<float>>{{1.f}}));
+  EXPECT_EQ(saved.points()[0].get(), committed.points()[0].get());
 }
 
 // The wall of WallBesideThePathIsACollision was mapped two steps ago; the last step

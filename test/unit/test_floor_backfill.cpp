@@ -40,7 +40,7 @@ KeyframeCloud floorPatch(double z) {
 }  // namespace
 
 TEST(FloorBackfill, FramesBeforeTheFirstFloorTakeItsRelation) {
-  BranchCheck check{Config(), nullptr};
+  BranchCheck check{Config(), {}};
   const KeyframeCloud patch = floorPatch(0.2);
   for (int i = 0; i < 10; ++i) {
     const TrackedFrame f = trackedAtZ(0.1 * i);
@@ -61,7 +61,7 @@ TEST(FloorBackfill, FramesBeforeTheFirstFloorTakeItsRelation) {
 }
 
 TEST(FloorBackfill, TranslationWithoutAnyFloorIsUnknownRotationIsNot) {
-  BranchCheck check{Config(), nullptr};
+  BranchCheck check{Config(), {}};
   const KeyframeCloud patch = floorPatch(0.2);
   for (int i = 0; i < 10; ++i) {
     const TrackedFrame f = trackedAtZ(0.1 * i);

@@ -137,17 +137,18 @@ TEST(RewindController, DeadEndRewindsBeforeThePocketAndMarksIt) {
   r.recordStep(1, {64, 64}, true, false, {{64, 64}, {68, 64}, {72, 64}});
   r.recordStep(2, {72, 64}, true, false, {{72, 64}, {73, 64}, {74, 64}, {75, 64}});
   EXPECT_FALSE(r.check());
-  r.recordStep(3, {75, 64}, true, true, {{75, 64}});
-  r.recordStep(4, {75, 64}, true, true, {{75, 64}});
+  // A rotation or a stall is no anchor: its checkpoint is released at once.
+  EXPECT_EQ(r.recordStep(3, {75, 64}, true, true, {{75, 64}}), (std::vector<uint64_t>{3}));
+  EXPECT_EQ(r.recordStep(4, {75, 64}, true, true, {{75, 64}}), (std::vector<uint64_t>{4}));
   EXPECT_FALSE(r.check());  // two rotations are no dead pocket yet
-  r.recordStep(5, {75, 64}, false, false, {});  // a stall counts too
+  EXPECT_EQ(r.recordStep(5, {75, 64}, false, false, {}), (std::vector<uint64_t>{5}));  // a stall counts too
   const auto d = r.check();
   ASSERT_TRUE(d);
   EXPECT_EQ(d->checkpoint, 2u);  // before walking into the dead end
   EXPECT_EQ(d->discarded_steps, 4);
   EXPECT_EQ(d->failed_cells, (std::set<Cell>{{73, 64}, {74, 64}, {75, 64}}));  // anchor cell kept free
   const auto released = r.apply(*d);
-  EXPECT_EQ(released, (std::vector<uint64_t>{2, 3, 4, 5}));
+  EXPECT_EQ(released, (std::vector<uint64_t>{2}));  // 3, 4 and 5 went when they were recorded
   EXPECT_EQ(r.rewinds(), 1);
   EXPECT_EQ(r.retained(), (std::vector<uint64_t>{1}));
 }
@@ -184,13 +185,35 @@ TEST(RewindController, AtMostTwoRewindsAndOnlyThreeAnchorsKept) {
     if (rewind < 2) {
       ASSERT_TRUE(d) << "rewind " << rewind;
       EXPECT_EQ(d->checkpoint, rewind == 0 ? 5u : 4u);  // each rewind reaches further back
-      r.apply(*d);
+      const auto rel = r.apply(*d);
+      // The second rewind is the last: anchor 3 goes with it, as no rewind can follow.
+      const std::vector<uint64_t> expected = rewind == 0 ? std::vector<uint64_t>{5} : std::vector<uint64_t>{4, 3};
+      EXPECT_EQ(rel, expected);
     } else {
       EXPECT_FALSE(d) << "a third rewind was allowed";
     }
   }
   EXPECT_EQ(r.rewinds(), 2);
-  EXPECT_FALSE(r.canRewindLater());  // anchors remain, rewinds do not
+  EXPECT_FALSE(r.canRewindLater());
+  EXPECT_TRUE(r.retained().empty());
+  // Every later step's checkpoint, a translation's too, is released when recorded.
+  EXPECT_EQ(r.recordStep(id, {69, 64}, true, false, {{69, 64}, {70, 64}}), (std::vector<uint64_t>{id}));
+  EXPECT_TRUE(r.retained().empty());
+}
+
+TEST(RewindController, ALongTurnInPlaceHoldsOnlyTheAnchors) {
+  // Two translations, then 50 turns in place (every translation rejected): before, each
+  // turn's checkpoint (a copy of the SLAM, floor and grid state) stayed held until the
+  // next translation, so memory grew with every turn. Now the turns hold nothing.
+  DeadPocketConfig config;
+  config.rotation_only_steps = 1000;  // no dead pocket declared during the turns
+  RewindController r(config);
+  r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}});
+  r.recordStep(2, {65, 64}, true, false, {{65, 64}, {66, 64}});
+  for (uint64_t id = 3; id < 53; ++id)
+    EXPECT_EQ(r.recordStep(id, {66, 64}, true, true, {{66, 64}}), (std::vector<uint64_t>{id}));
+  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{1, 2}));
+  EXPECT_TRUE(r.canRewindLater());
 }
 
 TEST(RewindController, CanRewindLaterNeedsAnAnchor) {
@@ -212,9 +235,12 @@ TEST(RewindController, DisabledNeverRewinds) {
   DeadPocketConfig config;
   config.enabled = false;
   RewindController r(config);
-  r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}});
-  for (uint64_t id = 2; id < 6; ++id) r.recordStep(id, {65, 64}, true, true, {{65, 64}});
+  // Nothing can be rewound to, so every checkpoint is released when its step is recorded.
+  EXPECT_EQ(r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}}), (std::vector<uint64_t>{1}));
+  for (uint64_t id = 2; id < 6; ++id)
+    EXPECT_EQ(r.recordStep(id, {65, 64}, true, true, {{65, 64}}), (std::vector<uint64_t>{id}));
   EXPECT_FALSE(r.check());
+  EXPECT_TRUE(r.retained().empty());
 }
 
 TEST(Policy, BaselinesChooseAmongTheAdmissible) {

@@ -30,6 +30,7 @@
 
 #include "valerant/config/config.h"
 #include "valerant/explore/branch_verdict.h"
+#include "valerant/explore/committed_points.h"
 #include "valerant/explore/depth_collision.h"
 #include "valerant/explore/point_cloud_collision.h"
 #include "valerant/slam/slam.h"
@@ -38,8 +39,8 @@ namespace valerant {
 
 class BranchCheck {
  public:
-  // `committed`: CommittedPoints::points() (null or empty: none).
-  BranchCheck(const Config& config, std::shared_ptr<const std::vector<CloudPoint>> committed);
+  // `committed`: CommittedPoints::points() (empty: none).
+  BranchCheck(const Config& config, CommittedSteps committed);
   // `keyframe`: the keyframe cloud this frame made (null if none); `floor`: its floor.
   void add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor);
   size_t frames() const { return samples_.size(); }
@@ -56,7 +57,7 @@ class BranchCheck {
     std::vector<CloudPoint> points;
   };
   CollisionConfig config_;
-  std::shared_ptr<const std::vector<CloudPoint>> committed_;
+  CommittedSteps committed_;
   double d_fwd_normalised_;
   std::vector<FloorPlane> samples_;
   std::vector<Eigen::Isometry3d> poses_;

@@ -9,6 +9,7 @@
 
 #include "valerant/config/config.h"
 #include "valerant/explore/branch_pipeline.h"
+#include "valerant/explore/committed_points.h"
 #include "valerant/explore/floor_estimator.h"
 #include "valerant/slam/slam.h"
 
@@ -24,6 +25,6 @@ struct LocalBranch : BranchHandle {
 // `slam` and `floor` are the branch's own copies of the committed state;
 // `committed` the latest committed steps' points (CommittedPoints).
 BranchResult evaluateBranch(Rollout rollout, bool rotation_only, std::unique_ptr<Slam> slam, FloorEstimator floor,
-                            std::shared_ptr<const std::vector<CloudPoint>> committed, const Config& config);
+                            CommittedSteps committed, const Config& config);
 
 }  // namespace valerant

@@ -10,8 +10,9 @@
 // count costs points x samples per branch. Only points with confidence >=
 // collision.min_confidence (the eq. 6 cut) are kept.
 //
-// A value: checkpoints copy it (the per-step point sets are immutable and shared).
-#include <deque>
+// A value: checkpoints copy it. The per-step point sets are immutable and shared by
+// every copy, and are handed to the branches as they are: one merged copy per
+// checkpoint cost up to 150 MB each with the depth prior's dense clouds.
 #include <memory>
 #include <vector>
 
@@ -20,21 +21,23 @@
 
 namespace valerant {
 
+// The kept steps' confident points, one immutable set per step, oldest first.
+using CommittedSteps = std::vector<std::shared_ptr<const std::vector<CloudPoint>>>;
+
 class CommittedPoints {
  public:
   // Keeps the latest config.previous_steps steps (0: none).
   explicit CommittedPoints(const CollisionConfig& config);
   // One committed step: the keyframe clouds its branch made.
   void add(const std::vector<KeyframeCloud>& keyframes);
-  // The kept steps' points, oldest step first; null when none are kept.
-  std::shared_ptr<const std::vector<CloudPoint>> points() const { return merged_; }
+  // The kept steps' points, oldest step first; empty when none are kept.
+  const CommittedSteps& points() const { return steps_; }
   int steps() const { return static_cast<int>(steps_.size()); }
 
  private:
   int steps_kept_;
   float min_confidence_;
-  std::deque<std::shared_ptr<const std::vector<CloudPoint>>> steps_;
-  std::shared_ptr<const std::vector<CloudPoint>> merged_;
+  CommittedSteps steps_;
 };
 
 }  // namespace valerant

@@ -9,9 +9,13 @@
 //
 // Rewind anchors: the checkpoints taken before translational commits; the
 // `checkpoints_kept` (3) most recent are retained, older ones released. A checkpoint
-// before a rotation-only step is no anchor: rewinding to it would leave the agent in
-// the very pocket it is escaping. Each rewind consumes its anchor, so a second dead
-// pocket reaches further back. At most `max_rewinds` (2) per episode.
+// before a rotation-only step or a stall is no anchor (rewinding to it would leave the
+// agent in the very pocket it is escaping), so it is released as soon as its step is
+// recorded; once no rewind can follow (disabled, or `max_rewinds` spent) every
+// checkpoint is. A checkpoint holds a copy of the SLAM, floor and grid state, so one
+// kept per step of a long turn in place grew memory by tens of MB a step. Each rewind
+// consumes its anchor, so a second dead pocket reaches further back. At most
+// `max_rewinds` (2) per episode.
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -35,7 +39,8 @@ class RewindController {
 
   // One exploration step that started from `checkpoint` (whose camera stood in
   // `start_cell`): either a commit (translational or rotation-only) passing through
-  // `cells`, or a stall. Returns the checkpoints that are no longer needed.
+  // `cells`, or a stall. Returns the checkpoints that are no longer needed (this
+  // step's own, unless it is an anchor).
   std::vector<uint64_t> recordStep(uint64_t checkpoint, const Cell& start_cell, bool committed,
                                    bool rotation_only, const std::set<Cell>& cells);
   // A rewind when a dead pocket is declared and one is allowed and possible.
@@ -57,8 +62,12 @@ class RewindController {
     uint64_t checkpoint;
     Cell start_cell;
     bool translational;
+    bool held;  // its checkpoint not yet released (anchors only)
     std::set<Cell> cells;
   };
+  bool rewindsLeft() const { return config_.enabled && rewinds_ < config_.max_rewinds; }
+  // Releases every checkpoint still held (no rewind can follow).
+  void releaseAll(std::vector<uint64_t>& released);
   DeadPocketConfig config_;
   std::deque<Step> steps_;  // since the oldest retained anchor
   int stalled_ = 0;         // consecutive rotation-only or stalled steps
