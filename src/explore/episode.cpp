@@ -213,7 +213,7 @@ void Episode::judge(const std::vector<std::string>& names, const Cell& start_cel
     v.c_front = terms.c_front;
     v.coverage = terms.coverage;
     v.progress = terms.progress;
-    v.enters_failed = failed_.enters(terms.cells, start_cell);
+    v.enters_failed = failed_.enters(terms.cells, start_cell, v.rotation_only);
     Cell end_cell{-1, -1};
     grid_->cellOf(out.centres.back().back(), end_cell);
     v.goal = goal.goalTerm(start_cell, end_cell);

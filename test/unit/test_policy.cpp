@@ -127,6 +127,10 @@ TEST(FailedRegionMemory, EnteringIsLeavingTheStartCellIntoF) {
   EXPECT_TRUE(f.enters({{64, 64}, {65, 64}}, {64, 64}));   // forward into the pocket
   EXPECT_FALSE(f.enters({{64, 64}, {64, 65}}, {64, 64}));  // sideways out of it
   EXPECT_FALSE(f.enters({{64, 64}}, {64, 64}));             // turning on the spot
+  // A turn whose reconstructed centres jitter into the neighbouring cell of F: the body
+  // does not move, so it enters nothing; the same cells walked do.
+  EXPECT_FALSE(f.enters({{64, 64}, {65, 64}}, {64, 64}, true));
+  EXPECT_TRUE(f.enters({{64, 64}, {65, 64}}, {64, 64}, false));
 }
 
 TEST(RewindController, DeadEndRewindsBeforeThePocketAndMarksIt) {

@@ -3,7 +3,10 @@
 // a dead-pocket rewind. A candidate that enters F is inadmissible. "Enters" means a
 // sample cell in F other than the candidate's own start cell: after a rewind the agent
 // stands at the anchor, whose neighbourhood the discarded segment usually shares, and
-// must still be able to leave it in another direction.
+// must still be able to leave it in another direction. A turn in place enters nothing:
+// its body stays in the start cell, and the cells its reconstructed camera centres
+// pass through are the SLAM's jitter (a 150-step visual run on oa_dm1 ended "stuck"
+// at step 36 when both turns read a neighbouring cell of F).
 #include <set>
 
 #include "valerant/geometry/coverage_grid.h"
@@ -14,7 +17,8 @@ class FailedRegionMemory {
  public:
   void add(const std::set<Cell>& cells) { cells_.insert(cells.begin(), cells.end()); }
   bool contains(const Cell& c) const { return cells_.count(c) > 0; }
-  bool enters(const std::set<Cell>& candidate_cells, const Cell& start) const {
+  bool enters(const std::set<Cell>& candidate_cells, const Cell& start, bool rotation_only = false) const {
+    if (rotation_only) return false;
     for (const Cell& c : candidate_cells)
       if (c != start && contains(c)) return true;
     return false;
