@@ -8,12 +8,11 @@ std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Ce
                                                    bool rotation_only, const std::set<Cell>& cells) {
   const bool translational = committed && !rotation_only;
   stalled_ = translational ? 0 : stalled_ + 1;
-  steps_.push_back({checkpoint, start_cell, translational, translational, committed ? cells : std::set<Cell>{}});
+  steps_.push_back({checkpoint, start_cell, translational, committed ? cells : std::set<Cell>{}});
   std::vector<uint64_t> released;
   if (!translational) released.push_back(checkpoint);
   if (!rewindsLeft()) {  // no rewind can follow: nothing to keep
     releaseAll(released);
-    steps_.clear();
     return released;
   }
   if (!translational) return released;
@@ -25,23 +24,21 @@ std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Ce
     keep_from = i;
   }
   for (size_t i = 0; i < keep_from; ++i)
-    if (steps_[i].held) released.push_back(steps_[i].checkpoint);
+    if (steps_[i].translational) released.push_back(steps_[i].checkpoint);
   steps_.erase(steps_.begin(), steps_.begin() + keep_from);
   return released;
 }
 
 void RewindController::releaseAll(std::vector<uint64_t>& released) {
-  for (Step& s : steps_)
-    if (s.held) {
-      released.push_back(s.checkpoint);
-      s.held = false;
-    }
+  for (const Step& s : steps_)
+    if (s.translational) released.push_back(s.checkpoint);
+  steps_.clear();
 }
 
 std::optional<RewindDecision> RewindController::check() {
   if (!rewindsLeft() || stalled_ < config_.rotation_only_steps) return std::nullopt;
   // The most recent anchor: the last translational step.
-  auto anchor = std::find_if(steps_.rbegin(), steps_.rend(), [](const Step& s) { return s.held; });
+  auto anchor = std::find_if(steps_.rbegin(), steps_.rend(), [](const Step& s) { return s.translational; });
   if (anchor == steps_.rend()) return std::nullopt;
   RewindDecision d;
   const auto first = anchor.base() - 1;  // forward iterator to the anchor step
@@ -64,25 +61,22 @@ std::vector<uint64_t> RewindController::apply(const RewindDecision& decision) {
                             [&](const Step& s) { return s.checkpoint == decision.checkpoint; });
   // The anchor's own checkpoint is consumed too: the next rewind reaches further back.
   for (auto it = first; it != steps_.end(); ++it)
-    if (it->held) released.push_back(it->checkpoint);
+    if (it->translational) released.push_back(it->checkpoint);
   steps_.erase(first, steps_.end());
   stalled_ = 0;
   ++rewinds_;
-  if (!rewindsLeft()) {
-    releaseAll(released);
-    steps_.clear();
-  }
+  if (!rewindsLeft()) releaseAll(released);
   return released;
 }
 
 bool RewindController::canRewindLater() const {
-  return rewindsLeft() && std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.held; });
+  return rewindsLeft() && std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.translational; });
 }
 
 std::vector<uint64_t> RewindController::retained() const {
   std::vector<uint64_t> ids;
   for (const auto& s : steps_)
-    if (s.held) ids.push_back(s.checkpoint);
+    if (s.translational) ids.push_back(s.checkpoint);
   return ids;
 }
 

@@ -61,12 +61,11 @@ class RewindController {
   struct Step {
     uint64_t checkpoint;
     Cell start_cell;
-    bool translational;
-    bool held;  // its checkpoint not yet released (anchors only)
+    bool translational;  // an anchor: the only steps whose checkpoint is held
     std::set<Cell> cells;
   };
   bool rewindsLeft() const { return config_.enabled && rewinds_ < config_.max_rewinds; }
-  // Releases every checkpoint still held (no rewind can follow).
+  // No rewind can follow: releases every anchor and forgets the steps.
   void releaseAll(std::vector<uint64_t>& released);
   DeadPocketConfig config_;
   std::deque<Step> steps_;  // since the oldest retained anchor
