@@ -132,7 +132,15 @@ StepRecord Episode::step() {
   record.seconds.policy += secondsSince(t_move);
   if (goal_move && std::find(first_round.begin(), first_round.end(), *goal_move) == first_round.end())
     first_round.push_back(*goal_move);
-  judge(first_round, start_cell, record, judged);
+  // Later rounds (all but the clean prefixes known now) judge shorter or longer
+  // versions of these candidates: their branches are kept where those begin alike.
+  const std::vector<std::vector<std::string>> rounds = roomActionRounds();
+  auto namesAfter = [&rounds](size_t round) {
+    std::vector<std::string> names;
+    for (size_t r = round; r < rounds.size(); ++r) names.insert(names.end(), rounds[r].begin(), rounds[r].end());
+    return names;
+  };
+  judge(first_round, namesAfter(0), start_cell, record, judged);
   holdToClearEnd(judged, candidateNames().size());
   const uint64_t step_seed = (uint64_t{config_.world.seed} << 32) + record.step;
   auto select = [&] {
@@ -143,17 +151,17 @@ StepRecord Episode::step() {
   select();
   const std::vector<std::string> prefixes = cleanPrefixes(judged);
   if (!prefixes.empty()) {
-    judge(prefixes, start_cell, record, judged);
+    judge(prefixes, namesAfter(0), start_cell, record, judged);
     select();
   }
-  for (const std::vector<std::string>& round : roomActionRounds()) {  // [ours], docs/whole_level.md
+  for (size_t r = 0; r < rounds.size(); ++r) {  // [ours], docs/whole_level.md
     if (movesOn(judged)) break;
     std::vector<std::string> names;
-    for (const std::string& name : round)
+    for (const std::string& name : rounds[r])
       if (std::find(judged.names.begin(), judged.names.end(), name) == judged.names.end()) names.push_back(name);
     if (names.empty()) continue;
     const size_t first_new = judged.verdicts.size();
-    judge(names, start_cell, record, judged);
+    judge(names, namesAfter(r + 1), start_cell, record, judged);
     holdToClearEnd(judged, first_new);
     select();
   }
@@ -184,17 +192,23 @@ StepRecord Episode::step() {
   return record;
 }
 
-void Episode::judge(const std::vector<std::string>& names, const Cell& start_cell, StepRecord& record, Candidates& out) {
+void Episode::judge(const std::vector<std::string>& names, const std::vector<std::string>& later,
+                    const Cell& start_cell, StepRecord& record, Candidates& out) {
+  std::vector<ActionSequence> later_sequences;
+  for (const std::string& name : later) later_sequences.push_back(makeActionSequence(name, config_));
   // Rendering needs the world's single GL context, so rollouts are made one after the
   // other; the pipeline starts each one's reconstruction as soon as it exists.
   std::vector<std::future<BranchResult>> pending;
   for (const std::string& name : names) {
     out.names.push_back(name);
     const ActionSequence seq = makeActionSequence(name, config_);
+    std::vector<size_t> keep_after;
+    for (const ActionSequence& other : later_sequences)
+      if (const size_t shared = sharedFrames(seq, other); shared > 0) keep_after.push_back(shared);
     const auto t = std::chrono::steady_clock::now();
     Rollout rollout = world_.rollout(seq);
     record.seconds.render += secondsSince(t);
-    pending.push_back(pipeline_.evaluate(std::move(rollout), seq.rotationOnly()));
+    pending.push_back(pipeline_.evaluate(std::move(rollout), seq.rotationOnly(), std::move(keep_after)));
   }
   const Eigen::Vector3d start_centre = trajectory_.back().translation();
   const auto t_goal = std::chrono::steady_clock::now();

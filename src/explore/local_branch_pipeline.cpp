@@ -1,8 +1,10 @@
 #include "valerant/explore/local_branch_pipeline.h"
 
+#include <algorithm>
+#include <optional>
+
 #include "valerant/common/error.h"
-#include "valerant/explore/branch_check.h"
-#include "valerant/explore/branch_evaluator.h"
+#include "valerant/explore/branch_run.h"
 #include "valerant/explore/branch_stages.h"
 #include "valerant/slam/slam_factory.h"
 
@@ -16,6 +18,7 @@ LocalBranchPipeline::LocalBranchPipeline(const CameraIntrinsics& intrinsics, con
       committed_(config.collision) {}
 
 BranchResult LocalBranchPipeline::start(const Rollout& context) {
+  resume_->clear();
   BranchResult out;
   out.rollout = context;
   const RolloutTruth::Hold held = truth_->hold(context);
@@ -36,19 +39,26 @@ void LocalBranchPipeline::checkpoint(CheckpointId id) { saved_.save(id, Saved{sl
 
 void LocalBranchPipeline::restore(CheckpointId id) {
   const Saved& s = saved_.at(id);
+  resume_->clear();
   slam_->restore(s.slam);
   floor_ = s.floor;
   committed_ = s.committed;
 }
 
-std::future<BranchResult> LocalBranchPipeline::evaluate(Rollout rollout, bool rotation_only) {
+std::future<BranchResult> LocalBranchPipeline::evaluate(Rollout rollout, bool rotation_only,
+                                                       std::vector<size_t> keep_after) {
   RolloutTruth::Hold held = truth_->hold(rollout);
+  std::optional<BranchRun> resumed = resume_->longestPrefixOf(rollout);
+  BranchRun run = resumed ? std::move(*resumed) : BranchRun(slam_->branch(), floor_, committed_.points(), config_);
   return std::async(std::launch::async, [held = std::move(held), rollout = std::move(rollout), rotation_only,
-                                         slam = slam_->branch(), floor = floor_, committed = committed_.points(),
-                                         &config = config_]() mutable {
+                                         run = std::move(run), keep_after = std::move(keep_after),
+                                         resume = resume_]() mutable {
     const RolloutTruth::Hold until_evaluated = std::move(held);
-    return evaluateBranch(std::move(rollout), rotation_only, std::move(slam), std::move(floor), std::move(committed),
-                          config);
+    for (size_t i = run.frames(); i < rollout.frames.size(); ++i) {
+      run.track(rollout.frames[i], rollout.id);
+      if (std::find(keep_after.begin(), keep_after.end(), i + 1) != keep_after.end()) resume->keep(rollout, run.fork());
+    }
+    return std::move(run).finish(std::move(rollout), rotation_only);
   });
 }
 
@@ -56,6 +66,7 @@ void LocalBranchPipeline::commit(const BranchResult& chosen) {
   auto* branch = dynamic_cast<LocalBranch*>(chosen.handle.get());
   if (!branch || !branch->slam)
     throw InputError("rollout " + std::to_string(chosen.rollout.id), "is no branch of this pipeline (or committed twice)");
+  resume_->clear();
   slam_ = std::move(branch->slam);
   floor_ = branch->floor;
   committed_.add(chosen.keyframes);

@@ -140,7 +140,8 @@ void RosBranchPipeline::onResult(const valerant::CandidateResult::ConstPtr& msg)
   arrived_.notify_all();
 }
 
-std::future<BranchResult> RosBranchPipeline::evaluate(Rollout rollout, bool rotation_only) {
+std::future<BranchResult> RosBranchPipeline::evaluate(Rollout rollout, bool rotation_only,
+                                                      std::vector<size_t> /*keep_after: every branch is tracked whole*/) {
   return std::async(std::launch::async, &RosBranchPipeline::waitForResult, this, std::move(rollout), rotation_only);
 }
 

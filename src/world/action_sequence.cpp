@@ -139,6 +139,19 @@ std::string describeAction(const std::string& name, const Config& config) {
 
 std::string prefixName(const std::string& candidate, int frames) { return candidate + "@" + std::to_string(frames); }
 
+size_t sharedFrames(const ActionSequence& a, const ActionSequence& b) {
+  size_t n = 0;
+  while (n < a.steps.size() && n < b.steps.size()) {
+    const MotionStep &x = a.steps[n], &y = b.steps[n];
+    if (x.forward_units != y.forward_units || x.strafe_units != y.strafe_units || x.yaw_deg != y.yaw_deg ||
+        x.pitch_deg != y.pitch_deg)
+      break;
+    ++n;
+  }
+  return n;
+}
+
+
 ActionSequence makeActionSequence(const std::string& name, const Config& config) {
   const auto [candidate_or_keys, prefix_frames] = splitPrefix(name);
   const RolloutConfig& r = config.rollout;

@@ -125,3 +125,17 @@ TEST(ActionSequence, DescriptionsSayWhatAnActionDoes) {
   EXPECT_EQ(describeAction("jw", c), "jw (turn 45 deg left, 13.6 m forward)");  // 97 * 8 / 57 = 13.61
   EXPECT_EQ(describeAction("q:3", c), "q:3 (no motion)");
 }
+
+// Where a branch of one candidate is worth keeping for another (resume_points.h).
+TEST(ActionSequence, SharedFramesAreTheLeadingEqualSteps) {
+  const Config c;
+  auto seq = [&c](const std::string& name) { return makeActionSequence(name, c); };
+  EXPECT_EQ(sharedFrames(seq("uw"), seq("uw@32")), 32u);  // a short translation: uw's first 32 frames
+  EXPECT_EQ(sharedFrames(seq("uw@32"), seq("uw@16")), 16u);
+  EXPECT_EQ(sharedFrames(seq("jw"), seq("jw@60")), 60u);  // the turn and 3 frames of the forward tail
+  EXPECT_EQ(sharedFrames(seq("jq"), seq("jq:114")), 57u);  // a longer turn continues jq
+  EXPECT_EQ(sharedFrames(seq("jq"), seq("jq@28")), 28u);
+  EXPECT_EQ(sharedFrames(seq("uw"), seq("jw")), 0u);       // jw turns from its first frame
+  EXPECT_EQ(sharedFrames(seq("jq"), seq("lq")), 0u);
+  EXPECT_EQ(sharedFrames(seq("uw"), seq("uw")), 57u);
+}

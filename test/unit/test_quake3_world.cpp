@@ -32,8 +32,9 @@ TEST(Quake3World, RolloutsAreDeterministicAndLeaveTheStateAlone) {
   auto map = loadQuake3Map("oa_dm1", config.world.patch_level);
   Quake3World world(map, config);
   const CameraState start = world.camera();
+  Quake3World other(map, config);  // one world would reuse its frames
   const Rollout a = world.rollout(makeActionSequence("uw", config));
-  const Rollout b = world.rollout(makeActionSequence("uw", config));
+  const Rollout b = other.rollout(makeActionSequence("uw", config));
   ASSERT_EQ(a.frames.size(), 57u);
   ASSERT_EQ(a.truth.size(), 57u);
   EXPECT_EQ(difference(a.frames.back(), b.frames.back()), 0.0);
@@ -70,6 +71,43 @@ TEST(Quake3World, CommitCheckpointAndRestore) {
   EXPECT_THROW(world.restore(start), InputError);
 }
 
+// A rollout that begins with another's actions reuses its frames and renders the rest:
+// the same frames, truth and end state as a world that renders them all.
+TEST(Quake3World, RolloutsBeginningAlikeReuseFrames) {
+  VALERANT_REQUIRE_OPENARENA();
+  Config config = smallConfig();
+  config.world.degradation.noise_sigma = 6;  // keyed by the frame's index: reuse must keep it
+  auto map = loadQuake3Map("oa_dm1", config.world.patch_level);
+  Quake3World reusing(map, config), rendering(map, config);
+  const Rollout uw = reusing.rollout(makeActionSequence("uw", config));
+  const Rollout jq = reusing.rollout(makeActionSequence("jq", config));
+  const Rollout shorter = reusing.rollout(makeActionSequence("uw@32", config));
+  const Rollout longer = reusing.rollout(makeActionSequence("jq:80", config));
+  EXPECT_EQ(shorter.frames[31].data, uw.frames[31].data);  // not rendered again
+  EXPECT_EQ(longer.frames[56].data, jq.frames[56].data);
+  EXPECT_NE(longer.frames[57].data, nullptr);
+  for (const auto& [name, made] : {std::pair{"uw@32", &shorter}, std::pair{"jq:80", &longer}}) {
+    Quake3World fresh(map, config);
+    const Rollout rendered = fresh.rollout(makeActionSequence(name, config));
+    ASSERT_EQ(made->frames.size(), rendered.frames.size()) << name;
+    for (size_t i = 0; i < rendered.frames.size(); ++i) {
+      EXPECT_EQ(difference(made->frames[i], rendered.frames[i]), 0.0) << name << " frame " << i;
+      EXPECT_TRUE(made->truth[i].camera_to_world.isApprox(rendered.truth[i].camera_to_world, 0)) << name << " frame " << i;
+      EXPECT_EQ(made->truth[i].in_solid, rendered.truth[i].in_solid);
+    }
+  }
+  // Committing a reused rollout reaches the state rendering it would: the same context
+  // and the same next frames.
+  reusing.commit(longer);
+  rendering.commit(rendering.rollout(makeActionSequence("jq:80", config)));
+  EXPECT_EQ(reusing.camera().yaw_deg, rendering.camera().yaw_deg);
+  ASSERT_EQ(reusing.context().frames.size(), rendering.context().frames.size());
+  EXPECT_EQ(difference(reusing.context().frames.front(), rendering.context().frames.front()), 0.0);
+  const Rollout next_a = reusing.rollout(makeActionSequence("uw", config));
+  const Rollout next_b = rendering.rollout(makeActionSequence("uw", config));
+  EXPECT_EQ(difference(next_a.frames.back(), next_b.frames.back()), 0.0);
+}
+
 TEST(Quake3World, DegradationsAreDeterministicPerFrame) {
   VALERANT_REQUIRE_OPENARENA();
   Config config = smallConfig();
@@ -78,10 +116,10 @@ TEST(Quake3World, DegradationsAreDeterministicPerFrame) {
   config.world.degradation.jitter_px = 2;
   config.world.degradation.blur_sigma = 0.8;
   auto map = loadQuake3Map("oa_dm1", config.world.patch_level);
-  Quake3World noisy(map, config);
+  Quake3World noisy(map, config), noisy_again(map, config);  // one world would reuse its frames
   Quake3World clean(map, smallConfig());
   const Rollout a = noisy.rollout(makeActionSequence("uw", config));
-  const Rollout b = noisy.rollout(makeActionSequence("uw", config));
+  const Rollout b = noisy_again.rollout(makeActionSequence("uw", config));
   const Rollout c = clean.rollout(makeActionSequence("uw", config));
   EXPECT_EQ(difference(a.frames[10], b.frames[10]), 0.0);
   EXPECT_GT(difference(a.frames[10], c.frames[10]), 0.0);

@@ -48,8 +48,12 @@ class BranchPipeline {
   virtual void restore(CheckpointId id) = 0;
   virtual void drop(CheckpointId id) = 0;
   // Reconstructs and judges `rollout` (made from the committed state) on a branch of
-  // its own; the five candidates of a step run concurrently.
-  virtual std::future<BranchResult> evaluate(Rollout rollout, bool rotation_only) = 0;
+  // its own; the five candidates of a step run concurrently. `keep_after`: frame counts
+  // whose states a later candidate of this step may begin with (a shorter or longer
+  // version of this one); a pipeline may keep them and resume from there, with the
+  // result tracking the frames again would give, or ignore them.
+  virtual std::future<BranchResult> evaluate(Rollout rollout, bool rotation_only,
+                                             std::vector<size_t> keep_after) = 0;
   // Makes the branch of `chosen` (a result of this step's evaluate) the committed state.
   virtual void commit(const BranchResult& chosen) = 0;
   // The committed floor estimator's floor at a pose (anchors the coverage grid).

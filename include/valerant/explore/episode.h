@@ -108,7 +108,10 @@ class Episode {
   Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline, std::unique_ptr<BranchSelector> own_selector,
           BranchPipeline* pipeline, BranchSelector* selector, const Config& config);
   // Rolls out, reconstructs and scores `names` from the committed state into `out`.
-  void judge(const std::vector<std::string>& names, const Cell& start_cell, StepRecord& record, Candidates& out);
+  // `later`: names a later round of the step may judge; where one begins with the same
+  // frames as a candidate here, the pipeline may keep that candidate's branch there.
+  void judge(const std::vector<std::string>& names, const std::vector<std::string>& later, const Cell& start_cell,
+             StepRecord& record, Candidates& out);
   // The clean prefixes (clean_prefix.h) worth judging after the first choice: none
   // while one of the paper's translations is admissible.
   std::vector<std::string> cleanPrefixes(const Candidates& judged) const;

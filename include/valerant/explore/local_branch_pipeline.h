@@ -4,7 +4,9 @@
 // them in a thread of its own; committing adopts the winner's copies (both backends
 // are deterministic, so that equals replaying the winner). The pipeline feeds the SLAM
 // every frame, so it also holds each rollout's ground truth while its frames are
-// tracked: that is where the oracle backend reads it (slam/rollout_truth.h).
+// tracked: that is where the oracle backend reads it (slam/rollout_truth.h). A
+// candidate that begins with the frames of an earlier one of the same step continues
+// from that one's kept run (resume_points.h).
 #include <memory>
 
 #include "valerant/config/config.h"
@@ -12,6 +14,7 @@
 #include "valerant/explore/checkpoint_store.h"
 #include "valerant/explore/committed_points.h"
 #include "valerant/explore/floor_estimator.h"
+#include "valerant/explore/resume_points.h"
 #include "valerant/slam/rollout_truth.h"
 #include "valerant/slam/slam.h"
 
@@ -26,7 +29,7 @@ class LocalBranchPipeline : public BranchPipeline {
   void checkpoint(CheckpointId id) override;
   void restore(CheckpointId id) override;
   void drop(CheckpointId id) override { saved_.drop(id); }
-  std::future<BranchResult> evaluate(Rollout rollout, bool rotation_only) override;
+  std::future<BranchResult> evaluate(Rollout rollout, bool rotation_only, std::vector<size_t> keep_after) override;
   void commit(const BranchResult& chosen) override;
   FloorPlane floorAt(const Eigen::Isometry3d& camera_to_map) override { return floor_.at(camera_to_map); }
 
@@ -42,6 +45,8 @@ class LocalBranchPipeline : public BranchPipeline {
   FloorEstimator floor_;
   CommittedPoints committed_;  // counted by every branch's BranchCheck
   CheckpointStore<Saved> saved_;
+  // Runs of this step's rollouts kept for later candidates that begin like them.
+  std::shared_ptr<ResumePoints> resume_ = std::make_shared<ResumePoints>();
 };
 
 }  // namespace valerant

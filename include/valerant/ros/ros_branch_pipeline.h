@@ -28,7 +28,7 @@ class RosBranchPipeline : public BranchPipeline {
   void checkpoint(CheckpointId id) override;
   void restore(CheckpointId id) override;
   void drop(CheckpointId id) override;
-  std::future<BranchResult> evaluate(Rollout rollout, bool rotation_only) override;
+  std::future<BranchResult> evaluate(Rollout rollout, bool rotation_only, std::vector<size_t> keep_after) override;
   void commit(const BranchResult& chosen) override;
   FloorPlane floorAt(const Eigen::Isometry3d& camera_to_map) override;
 

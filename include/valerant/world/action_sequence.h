@@ -44,6 +44,9 @@ const std::vector<std::string>& candidateNames();
 
 // "uw@31" for the first 31 frames of uw (makeActionSequence checks the count).
 std::string prefixName(const std::string& candidate, int frames);
+// How many leading frames two sequences share (equal motion steps): "uw@32" and "uw"
+// 32, "jq" and "jq:114" 57, "uw" and "jq" 0.
+size_t sharedFrames(const ActionSequence& a, const ActionSequence& b);
 // The paper candidate a name is (a prefix or a turn of): "uw@31" -> "uw", "jq" -> "jq",
 // "lq:114" -> "lq"; the branch a key string runs on: "uw" when one of its keys moves
 // (w, s, a, d), else "jq" or "lq" by the sign of its net turn ("l:23,w:41" -> "uw",

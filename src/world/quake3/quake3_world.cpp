@@ -1,5 +1,7 @@
 #include "valerant/world/quake3/quake3_world.h"
 
+#include <tuple>
+
 #include "valerant/common/error.h"
 #include "valerant/world/degradation.h"
 #include "valerant/world/quake3/units.h"
@@ -87,13 +89,27 @@ void Quake3World::restore(CheckpointId id) {
 void Quake3World::dropCheckpoint(CheckpointId id) { checkpoints_.erase(id); }
 
 Rollout Quake3World::rollout(const ActionSequence& actions) {
+  // The pending rollout sharing the most leading actions, whose frames are reused.
+  const Pending* base = nullptr;
+  size_t shared = 0;
+  for (const auto& [id, p] : pending_)
+    if (const size_t n = sharedFrames(actions, p.actions); n > shared) base = &p, shared = n;
   Rollout r;
   r.id = next_rollout_++;
   r.candidate = actions.name;
-  State end = state_;
-  for (const MotionStep& step : actions.steps) {
-    end.camera = kinematics_.step(end.camera, step);
-    auto [rgb, truth] = renderFrame(end.camera, end.frames_committed);
+  Pending made{state_, actions, {}, {}, {}};
+  State& end = made.end;
+  for (size_t i = 0; i < actions.steps.size(); ++i) {
+    cv::Mat rgb;
+    FrameTruth truth;
+    if (i < shared) {
+      end.camera = base->cameras[i];
+      rgb = base->frames[i];
+      truth = base->truth[i];
+    } else {
+      end.camera = kinematics_.step(end.camera, actions.steps[i]);
+      std::tie(rgb, truth) = renderFrame(end.camera, end.frames_committed);
+    }
     ++end.frames_committed;
     end.context.push_back(rgb);
     end.context_truth.push_back(truth);
@@ -101,10 +117,13 @@ Rollout Quake3World::rollout(const ActionSequence& actions) {
       end.context.pop_front();
       end.context_truth.pop_front();
     }
-    r.frames.push_back(rgb);
-    r.truth.push_back(std::move(truth));
+    made.cameras.push_back(end.camera);
+    made.frames.push_back(rgb);
+    made.truth.push_back(truth);
   }
-  pending_[r.id] = std::move(end);
+  r.frames = made.frames;
+  r.truth = made.truth;
+  pending_[r.id] = std::move(made);
   return r;
 }
 
@@ -115,7 +134,7 @@ void Quake3World::commit(const Rollout& rollout) {
                      "was not made from the current committed state (stale after a commit or restore)");
   // The engine is deterministic: the rollout's end state is exactly what a replay of
   // its actions would reach, so it is reused instead of rendered again.
-  state_ = std::move(it->second);
+  state_ = std::move(it->second.end);
   pending_.clear();
 }
 

@@ -1,7 +1,10 @@
 #pragma once
 // The default world model: a Quake III map rendered offscreen and moved like a video
 // world model (see camera_kinematics.h). Rollouts are deterministic for a seed, so a
-// committed rollout is reused instead of replayed. One instance renders from one
+// committed rollout is reused instead of replayed, and a rollout whose actions begin
+// with those of another made from the same state (a short translation is uw's first
+// 32 frames, a longer turn continues jq) reuses that one's frames and renders only the
+// rest. One instance renders from one
 // thread at a time (it owns an OSMesa context); branches in parallel use one instance
 // each over the same shared Quake3Map.
 #include <deque>
@@ -58,8 +61,16 @@ class Quake3World : public WorldModel {
   State state_;
   std::map<CheckpointId, State> checkpoints_;
   CheckpointId next_checkpoint_ = 1;
-  // Rollouts made from the current committed state, with the state each one ends in.
-  std::map<RolloutId, State> pending_;
+  // Rollouts made from the current committed state, with the state each one ends in
+  // and what its frames were made of.
+  struct Pending {
+    State end;
+    ActionSequence actions;
+    std::vector<CameraState> cameras;  // one per frame
+    std::vector<cv::Mat> frames;       // shared with the rollout handed out
+    std::vector<FrameTruth> truth;
+  };
+  std::map<RolloutId, Pending> pending_;
   RolloutId next_rollout_ = 1;
 };
 
