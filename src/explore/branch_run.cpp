@@ -5,13 +5,6 @@
 #include "valerant/explore/branch_stages.h"
 
 namespace valerant {
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-}  // namespace
 
 BranchRun::BranchRun(std::unique_ptr<Slam> slam, FloorEstimator floor, CommittedSteps committed, const Config& config)
     : BranchRun(std::move(slam), std::move(floor), BranchCheck(config, std::move(committed))) {}

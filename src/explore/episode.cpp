@@ -16,10 +16,6 @@ namespace {
 
 constexpr int kOpenDirectionRays = 72;  // every 5 degrees: finer than the grid resolves a few metres out
 
-double secondsSince(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 // Camera centres of a candidate: the committed start, then one per frame.
 std::vector<Eigen::Vector3d> centresOf(const Eigen::Vector3d& start, const std::vector<Eigen::Isometry3d>& poses) {
   std::vector<Eigen::Vector3d> centres{start};
