@@ -230,6 +230,7 @@ void readCollision(Section s, CollisionConfig& c) {
   s.number("prefix_margin", c.prefix_margin, 0.0, 100.0);
   s.number("prefix_clearance", c.prefix_clearance, 0.0, 100.0);
   s.number("prefix_min_advance", c.prefix_min_advance, 0.0, 100.0);
+  s.choice("committed_heights", c.committed_heights, {"branch_floor", "own_floor"});
   s.finish();
 }
 

@@ -29,10 +29,11 @@ const std::map<std::string, std::vector<std::string>>& configOverrides() {
       {"forward", {"policy.kind=forward"}},
       {"frontier", {"policy.kind=frontier"}},
       // full with the whole-level options on (docs/whole_level.md; off by default), less
-      // the goal move and the surface layer, which did not earn a place there (part 2).
+      // the goal move and the surface layer, which did not earn a place there (part 2),
+      // and committed heights from their own keyframes' floors (docs/committed_heights.md).
       {"whole-level",
        {"policy.goal_weight=1", "policy.short_translation_frames=[32,16]", "policy.short_turn_frames=[28]",
-        "policy.open_turn=true", "policy.opening_weight=0.5"}},
+        "policy.open_turn=true", "policy.opening_weight=0.5", "collision.committed_heights=own_floor"}},
       // The paper's method without our additions: config/paper.yaml's overrides (a unit
       // test keeps the two the same); the grid's --budget sets the steps.
       {"paper",

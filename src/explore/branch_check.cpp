@@ -73,11 +73,15 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
       }
     if (start.cameraHeight() > 0) {
       const double radius = config_.body_radius * start.cameraHeight();
+      // Committed heights from each point's own keyframe's floor (committed_points.h),
+      // unless the stepped body measures everything from the branch's first floor.
+      const bool own_floor = config_.committed_heights == "own_floor" && !stepped;
       for (const auto& step : committed_)
         for (const auto& p : *step) {
           const Eigen::Vector3d x = p.position.cast<double>();
           if (start.axisDistanceSquared(x) <= radius * radius) continue;  // beside the body already
-          points.push_back({x, start.normalisedHeight(x), p.confidence});
+          const bool own = own_floor && std::isfinite(p.h);
+          points.push_back({x, own ? static_cast<double>(p.h) : start.normalisedHeight(x), p.confidence});
         }
     }
     // Eq. 6 at rho; a prefix also keeps prefix_clearance from the branch's points: rho

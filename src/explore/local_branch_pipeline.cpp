@@ -69,7 +69,7 @@ void LocalBranchPipeline::commit(const BranchResult& chosen) {
   resume_->clear();
   slam_ = std::move(branch->slam);
   floor_ = branch->floor;
-  committed_.add(chosen.keyframes);
+  committed_.add(chosen.keyframes, chosen.keyframe_floors);
 }
 
 }  // namespace valerant

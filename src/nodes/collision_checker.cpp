@@ -167,7 +167,9 @@ class CollisionChecker {
       std::vector<KeyframeCloud> keyframes;
       for (const auto& cloud : it->second.keyframes)
         keyframes.push_back({0, 0, Eigen::Isometry3d::Identity(), valerant::bridge::fromCloudMsg(cloud)});
-      committed_.add(keyframes);
+      std::vector<FloorPlane> floors;
+      for (const auto& floor : it->second.keyframe_floors) floors.push_back(valerant::bridge::fromMsg(floor));
+      committed_.add(keyframes, floors);
       judged_.clear();
     });
   }

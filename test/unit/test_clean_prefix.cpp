@@ -69,11 +69,13 @@ TEST(CleanPrefix, MarginIsHorizontal) {
 namespace {
 
 CommittedSteps wallFromZ03() {
-  auto wall = std::make_shared<std::vector<CloudPoint>>();
+  KeyframeCloud wall;
   for (int i = 30; i <= 90; ++i)
     for (double y : {0.05, 0.15, 0.25, 0.35})
-      wall->push_back({Eigen::Vector3f(0.08f, static_cast<float>(y), 0.01f * i), {}, 10.f});
-  return {wall};
+      wall.points.push_back({Eigen::Vector3f(0.08f, static_cast<float>(y), 0.01f * i), {}, 10.f});
+  CommittedPoints committed(Config().collision);
+  committed.add({wall}, {valerant::test::floorBelow(Eigen::Vector3d::Zero(), 0.5)});
+  return committed.points();
 }
 
 // The walk of test_committed_points.cpp (z = 0 .. 0.9, kappa 0.5) beside `wall`,

@@ -6,7 +6,10 @@
 // (normalised heights 0.3 .. 0.9, inside [0.18, 1.19]).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "valerant/explore/branch_check.h"
+#include "valerant/common/error.h"
 #include "valerant/explore/committed_points.h"
 #include "walking_branch.h"
 
@@ -26,16 +29,24 @@ KeyframeCloud wallCloud(double z0, double z1) {
   return cloud;
 }
 
-CommittedSteps wall(double z0, double z1) {
-  return {std::make_shared<std::vector<CloudPoint>>(wallCloud(z0, z1).points)};
+// The floor of a keyframe at the start camera: y = kFloorY below it.
+FloorPlane startFloor() { return valerant::test::floorBelow(Eigen::Vector3d::Zero(), kFloorY); }
+
+// One committed step holding `cloud`, its keyframe's floor `floor`.
+CommittedSteps committedStep(const KeyframeCloud& cloud, const FloorPlane& floor) {
+  CommittedPoints committed(Config().collision);
+  committed.add({cloud}, {floor});
+  return committed.points();
 }
+
+CommittedSteps wall(double z0, double z1) { return committedStep(wallCloud(z0, z1), startFloor()); }
 
 // The kept steps' x coordinates, step by step.
 std::vector<std::vector<float>> xs(const CommittedSteps& steps) {
   std::vector<std::vector<float>> out;
   for (const auto& step : steps) {
     out.emplace_back();
-    for (const CloudPoint& p : *step) out.back().push_back(p.position.x());
+    for (const CommittedPoint& p : *step) out.back().push_back(p.position.x());
   }
   return out;
 }
@@ -89,7 +100,7 @@ TEST(CommittedPoints, KeepsOnlyConfidentKeyframePoints) {
   b.points = {{Eigen::Vector3f(3, 0, 0), {}, 4.f}};
   CommittedPoints committed(Config().collision);
   EXPECT_TRUE(committed.points().empty());
-  committed.add({a, b});
+  committed.add({a, b}, {startFloor(), startFloor()});
   EXPECT_EQ(xs(committed.points()), (std::vector<std::vector<float>>{{1.f, 3.f}}));
 }
 
@@ -99,13 +110,13 @@ TEST(CommittedPoints, KeepsTheLatestSteps) {
   CollisionConfig config;
   config.previous_steps = 2;
   CommittedPoints committed(config);
-  for (float x : {1.f, 2.f, 3.f}) committed.add({pointAtX(x, 10.f)});
+  for (float x : {1.f, 2.f, 3.f}) committed.add({pointAtX(x, 10.f)}, {startFloor()});
   EXPECT_EQ(committed.steps(), 2);
   EXPECT_EQ(xs(committed.points()), (std::vector<std::vector<float>>{{2.f}, {3.f}}));
 
   config.previous_steps = 0;
   CommittedPoints none(config);
-  none.add({pointAtX(1.f, 10.f)});
+  none.add({pointAtX(1.f, 10.f)}, {startFloor()});
   EXPECT_EQ(none.steps(), 0);
   EXPECT_TRUE(none.points().empty());
 }
@@ -114,9 +125,9 @@ TEST(CommittedPoints, KeepsTheLatestSteps) {
 // both hold is one set in memory, not two.
 TEST(CommittedPoints, ACopyIsACheckpoint) {
   CommittedPoints committed(Config().collision);
-  committed.add({pointAtX(1.f, 10.f)});
+  committed.add({pointAtX(1.f, 10.f)}, {startFloor()});
   const CommittedPoints saved = committed;
-  committed.add({pointAtX(2.f, 10.f)});
+  committed.add({pointAtX(2.f, 10.f)}, {startFloor()});
   EXPECT_EQ(xs(committed.points()), (std::vector<std::vector<float>>{{1.f}, {2.f}}));
   EXPECT_EQ(xs(saved.points()), (std::vector<std::vector<float>>{{1.f}}));
   EXPECT_EQ(saved.points()[0].get(), committed.points()[0].get());
@@ -130,8 +141,8 @@ TEST(CommittedPoints, AWallMappedTwoStepsAgoStillCounts) {
   last_only.collision.previous_steps = 1;
   CommittedPoints one(last_only.collision), all(Config().collision);
   for (CommittedPoints* c : {&one, &all}) {
-    c->add({wallCloud(0.3, 0.9)});
-    c->add({pointAtX(5.f, 10.f)});
+    c->add({wallCloud(0.3, 0.9)}, {startFloor()});
+    c->add({pointAtX(5.f, 10.f)}, {startFloor()});
   }
   const BranchVerdict missed = walk(last_only, one.points(), false);
   EXPECT_FALSE(missed.collision_pc);
@@ -139,4 +150,39 @@ TEST(CommittedPoints, AWallMappedTwoStepsAgoStillCounts) {
   const BranchVerdict seen = walk(Config(), all.points(), false);
   EXPECT_TRUE(seen.collision_pc);
   EXPECT_EQ(seen.occupied_max, 52);
+}
+
+// Heights from each point's own keyframe floor (eq. 5). A floor patch at y = 0.4 under
+// the path (x = -0.05, 0, 0.05; z = 0.3 .. 0.9 every 0.01), as a view whose scale came
+// out small places the floor: from the branch's floor y = 0.5 it stands h = 0.1 / 0.5 =
+// 0.2 high, inside [0.18, 1.19]. At an inner sample the points within 0.105 of the axis
+// are x = 0 with |dz| <= 0.10 (21) and x = +-0.05 with |dz| <= 0.09 (19 each): 59. The
+// keyframe that saw it fitted its floor on it (y = 0.4): h = 0, and with
+// committed_heights = own_floor nothing counts. The default measures from the
+// branch's first floor whatever the keyframe's.
+TEST(CommittedPoints, OwnFloorHeightsComeFromTheirKeyframesFloor) {
+  KeyframeCloud patch;
+  for (int i = 30; i <= 90; ++i)
+    for (float x : {-0.05f, 0.f, 0.05f}) patch.points.push_back({Eigen::Vector3f(x, 0.4f, 0.01f * i), {}, 10.f});
+  Config own_floor;
+  own_floor.collision.committed_heights = "own_floor";
+  const BranchVerdict raised = walk(own_floor, committedStep(patch, startFloor()), false);
+  EXPECT_TRUE(raised.collision_pc);
+  EXPECT_EQ(raised.occupied_max, 59);
+  const FloorPlane own = valerant::test::floorBelow(Eigen::Vector3d::Zero(), 0.4);
+  const BranchVerdict flat = walk(own_floor, committedStep(patch, own), false);
+  EXPECT_FALSE(flat.collision_pc);
+  EXPECT_EQ(flat.occupied_max, 0);
+  EXPECT_EQ(walk(Config(), committedStep(patch, own), false).occupied_max, 59);
+  // A keyframe without a known floor: the branch's first floor measures it.
+  FloorPlane unknown = own;
+  unknown.known = false;
+  const CommittedSteps step = committedStep(patch, unknown);
+  EXPECT_TRUE(std::isnan(step.front()->front().h));
+  EXPECT_EQ(walk(own_floor, step, false).occupied_max, 59);
+}
+
+TEST(CommittedPoints, KeyframesAndFloorsMustPair) {
+  CommittedPoints committed(Config().collision);
+  EXPECT_THROW(committed.add({pointAtX(1.f, 10.f)}, {}), InputError);
 }

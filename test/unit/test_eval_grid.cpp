@@ -58,6 +58,8 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_DOUBLE_EQ(whole_level.policy.max_cell_rise, 0.0);
   EXPECT_DOUBLE_EQ(whole_level.collision.step_height, 0.0);
   EXPECT_TRUE(whole_level.collision.prefix_commits);  // our older additions stay
+  EXPECT_EQ(whole_level.collision.committed_heights, "own_floor");
+  EXPECT_EQ(overridden("full").collision.committed_heights, "branch_floor");
   const Config full = overridden("full");  // the whole-level options are off by default
   EXPECT_DOUBLE_EQ(full.policy.goal_weight, 0.0);
   EXPECT_TRUE(full.policy.short_translation_frames.empty());

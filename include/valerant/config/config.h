@@ -147,6 +147,11 @@ struct CollisionConfig {
   double prefix_margin = 1.0;
   double prefix_clearance = 0.5;
   double prefix_min_advance = 1.0;
+  // [ours] The floor a committed point's normalised height is measured from
+  // (committed_points.h): "branch_floor", the branch's first floor (one datum for all);
+  // "own_floor", the floor of the point's own keyframe (eq. 5, as for the branch's own
+  // points), which cancels a view's error of scale on the floor under it.
+  std::string committed_heights = "branch_floor";
 };
 
 struct DeadPocketConfig {

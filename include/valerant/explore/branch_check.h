@@ -17,8 +17,10 @@
 //
 // Committed points ([ours], collision.previous_steps, committed_points.h): the
 // confident points of the latest committed steps are counted too, with heights from
-// the branch's first floor; points already inside the body cylinder at the start are
-// left out, so standing beside a wall does not block every move.
+// the branch's first floor (collision.committed_heights = own_floor: from their own
+// keyframe's floor, as eq. 5 has it, where that keyframe had one); points already
+// inside the body cylinder at the start are left out, so standing beside a wall does
+// not block every move.
 //
 // Step-aware eq. 6 ([ours], collision.step_height > 0, step_support.h): the keyframe
 // points take their heights from the branch's first floor too, not from their own
