@@ -295,6 +295,7 @@ void readVisualSlam(Section s, VisualSlamConfig& v) {
   sw.number("near_fraction", v.sweep.near_fraction, 1e-3, 1.0);
   sw.number("confidence_gain", v.sweep.confidence_gain, 0.0, 1e3);
   sw.number("max_confidence", v.sweep.max_confidence, 0.0, 1e6);
+  sw.boolean("simd", v.sweep.simd);
   sw.finish();
   Section r = s.child("relocalizer");
   r.number("patch_px", v.relocalizer.patch_px, 3, 255);

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <future>
 #include <opencv2/imgproc.hpp>
 
 #include "valerant/common/error.h"
@@ -173,12 +174,23 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   const Config& config = episode.config();
   const std::vector<FusedPoint> cloud =
       episode.map().voxelCloud(config.map.voxel_eye_heights * episode.anchorEyeHeight());
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  nlohmann::json seconds = nlohmann::json::object();  // of each part below
   // The map kept for valerant_export, and every export format through the same code.
+  auto t = Clock::now();
   const RunMap run = runMapOf(episode);
   report["run_map"] = saveRunMap(out, run, overwrite);
-  report["exports"] = exportRunMap(run, exportFormats(), out, overwrite);
-  nlohmann::json files = report["exports"]["files"];
-  files.insert(files.end(), {"keyframes.pcd", "keyframes.txt", "config.yaml"});
+  seconds["run_map"] = since(t);
+  // The exports (the mesh most) read only `run`, the rest below only the episode: they
+  // run beside each other, on the machine's two cores. get() rethrows an export's error;
+  // an error here first waits for the exports (the future's destructor).
+  std::future<std::pair<nlohmann::json, double>> exports = std::async(std::launch::async, [&] {
+    const auto start = Clock::now();
+    nlohmann::json written = exportRunMap(run, exportFormats(), out, overwrite);
+    return std::pair{std::move(written), since(start)};
+  });
+  t = Clock::now();
   std::vector<StampedPose> slam_poses, truth_poses;
   for (size_t i = 0; i < episode.trajectory().size(); ++i) slam_poses.push_back({double(i), episode.trajectory()[i]});
   for (size_t i = 0; i < episode.truth().size(); ++i) truth_poses.push_back({double(i), episode.truth()[i].camera_to_world});
@@ -190,14 +202,11 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
                                 config.collision, kTopdownPixelsPerCell);
   cv::cvtColor(topdown, topdown, cv::COLOR_RGB2BGR);
   writeImageAtomically(out + "/topdown.png", topdown);
-  files.push_back("trajectory.txt");
-  if (has_truth) files.push_back("gt_trajectory.txt");
-  files.insert(files.end(), {"topdown.png", "decisions.jsonl", "report.json"});
   // The player's view at the end, for viewers of the run (run_publisher's camera image).
-  if (cv::Mat view = episode.currentView(); !view.empty()) {
+  cv::Mat view = episode.currentView();
+  if (!view.empty()) {
     cv::cvtColor(view, view, cv::COLOR_RGB2BGR);
     writeImageAtomically(out + "/view.png", view);
-    files.push_back("view.png");
   }
 
   StageSeconds total;
@@ -206,7 +215,6 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
     total += s.seconds;
     wall += s.wall_seconds;
   }
-  report["files"] = files;
   report["committed_steps"] = episode.committedSteps();
   report["steps"] = episode.history().size();
   report["rewinds"] = episode.rewinds();
@@ -224,8 +232,23 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
     report["frames_rendered"] = n;
   }
   report["loop_closures"] = loopClosures(episode);
+  seconds["trajectories_and_images"] = since(t);
+  t = Clock::now();
   // null: no ground truth (no engine map: the learned world from a screenshot, a bag).
   report["ground_truth"] = map ? groundTruth(episode, *map, cloud) : nlohmann::json();
+  seconds["ground_truth"] = since(t);
+  t = Clock::now();
+  auto [written, export_seconds] = exports.get();
+  seconds["waiting_for_exports"] = since(t);
+  seconds["exports"] = export_seconds;
+  report["exports"] = std::move(written);
+  nlohmann::json files = report["exports"]["files"];
+  files.insert(files.end(), {"keyframes.pcd", "keyframes.txt", "config.yaml", "trajectory.txt"});
+  if (has_truth) files.push_back("gt_trajectory.txt");
+  files.insert(files.end(), {"topdown.png", "decisions.jsonl", "report.json"});
+  if (!view.empty()) files.push_back("view.png");
+  report["files"] = files;
+  report["output_stage_seconds"] = seconds;
 }
 
 void writeRunReport(const std::string& out, const nlohmann::json& report) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <future>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -105,7 +106,7 @@ nlohmann::json exportRunMap(const RunMap& run, const std::vector<std::string>& f
   const Config& config = run.config;
   const double kappa = run.frame.eye_height;
   const double voxel = config.map.voxel_eye_heights * kappa;
-  std::vector<FusedPoint> cloud = run.map.voxelCloud(voxel);  // moved into the mesh, its last use
+  const std::vector<FusedPoint> cloud = run.map.voxelCloud(voxel);
   nlohmann::json files = nlohmann::json::array(), skipped = nlohmann::json::object();
   auto wrote = [&](const char* format) {
     for (const auto& name : filesOf(format)) files.push_back(name);
@@ -120,6 +121,26 @@ nlohmann::json exportRunMap(const RunMap& run, const std::vector<std::string>& f
     write();
     wrote(format);
   };
+  // The surface mesh (the triangulation: most of the exports' time) is made beside the
+  // cloud formats, the octree and the grids, on the machine's other core; they only read
+  // the map. get() below rethrows its error; an error before it waits for it (the
+  // future's destructor).
+  struct Meshed {
+    SurfaceMesh mesh;
+    double leaf = 0;
+  };
+  std::future<Meshed> meshing;
+  if (wanted("obj") || wanted("glb") || wanted("png"))
+    meshing = std::async(std::launch::async, [&run, &config, points = cloud, voxel]() mutable {
+      std::vector<Eigen::Vector3d> viewpoints;
+      for (const auto& kf : run.map.keyframes()) viewpoints.push_back(kf->camera_to_map.translation());
+      MeshCloud mesh_cloud = meshCloud(std::move(points), voxel, static_cast<size_t>(config.exports.mesh_max_points),
+                                       [&](double leaf) { return run.map.voxelCloud(leaf); });
+      return Meshed{transformMesh(triangulateCloud(mesh_cloud.points, viewpoints,
+                                                   meshParams(config.exports, mesh_cloud.leaf)),
+                                  run.frame.mapToAsset()),
+                    mesh_cloud.leaf};
+    });
   cloudFormat("ply", [&] { writeCloudPly(path("map.ply"), cloud, overwrite); });
   cloudFormat("pcd", [&] { writeCloudPcd(path("map.pcd"), cloud, overwrite); });
   cloudFormat("bt", [&] {
@@ -147,18 +168,12 @@ nlohmann::json exportRunMap(const RunMap& run, const std::vector<std::string>& f
                               {"cell_size_m", walkable.cell_size_m},
                               {"clearance_m", walkable.clearance_m}}},
                             {"map_frame", toJson(run.frame)}};
-  if (wanted("obj") || wanted("glb") || wanted("png")) {
-    std::vector<Eigen::Vector3d> viewpoints;
-    for (const auto& kf : run.map.keyframes()) viewpoints.push_back(kf->camera_to_map.translation());
-    const MeshCloud mesh_cloud =
-        meshCloud(std::move(cloud), voxel, static_cast<size_t>(config.exports.mesh_max_points),
-                  [&](double leaf) { return run.map.voxelCloud(leaf); });
-    const SurfaceMesh mesh = transformMesh(
-        triangulateCloud(mesh_cloud.points, viewpoints, meshParams(config.exports, mesh_cloud.leaf)),
-        run.frame.mapToAsset());
+  if (meshing.valid()) {
+    const Meshed meshed = meshing.get();
+    const SurfaceMesh& mesh = meshed.mesh;
     result["mesh"] = {{"vertices", mesh.positions.size()},
                       {"triangles", mesh.triangles.size()},
-                      {"leaf_m", mesh_cloud.leaf * run.frame.metres_per_unit}};
+                      {"leaf_m", meshed.leaf * run.frame.metres_per_unit}};
     const AssetNodes nodes = assetNodes(run);
     auto meshFormat = [&](const char* format, const std::function<void()>& write) {
       if (!wanted(format)) return;

@@ -21,6 +21,9 @@
 //     the learned world model's rollouts against the engine's from the same spawn: PSNR and
 //     SSIM at five horizons next to two baselines, the visual SLAM's yaw and heading on
 //     them, the depth prior on them, CPU time per frame; comparison sheets (bench/bench_wm.cpp)
+//   valerant_bench sweep --map oa_dm1 [--spawn 0] [--candidates uw,jw,lw] [--gap 6] [--repeats 2]
+//     plane-sweep ms per frame on one core per instruction set, and whether they agree bit
+//     for bit (bench/bench_sweep.cpp)
 //
 // `valerant_bench --help` lists the benchmarks, `valerant_bench NAME --help` the flags of one.
 #include <iostream>
@@ -40,7 +43,8 @@ int main(int argc, char** argv) {
                                                              {"map", tools::addBenchMap(app)},
                                                              {"depth", tools::addBenchDepth(app)},
                                                              {"extent", tools::addBenchExtent(app)},
-                                                             {"wm", tools::addBenchWorldModel(app)}};
+                                                             {"wm", tools::addBenchWorldModel(app)},
+                                                             {"sweep", tools::addBenchSweep(app)}};
   return tools::runTool(app, argc, argv, [&] {
     std::cout << benchmarks.at(app.get_subcommands().front()->get_name())().dump() << std::endl;
     return 0;

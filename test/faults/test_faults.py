@@ -72,6 +72,8 @@ TOOL_FLAGS = {
     ("valerant_bench", "depth"): (["--maps", "--spawns", "--model"] + CONFIG_FLAGS, [], "--spawns"),
     ("valerant_bench", "extent"): (["--maps", "--spawns"] + CONFIG_FLAGS, [], "--spawns"),
     ("valerant_bench", "wm"): (["--maps", "--spawns", "--model", "--out"] + CONFIG_FLAGS, [], "--spawns"),
+    ("valerant_bench", "sweep"): (["--map", "--spawn", "--candidates", "--gap", "--repeats"] + CONFIG_FLAGS, [],
+                                  "--gap"),
 }
 
 

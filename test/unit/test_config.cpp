@@ -126,6 +126,7 @@ TEST(Config, ShippedVisualSlamValuesAreTheBuiltInOnes) {
   EXPECT_EQ(shipped.sweep.near_fraction, built_in.sweep.near_fraction);
   EXPECT_EQ(shipped.sweep.confidence_gain, built_in.sweep.confidence_gain);
   EXPECT_EQ(shipped.sweep.max_confidence, built_in.sweep.max_confidence);
+  EXPECT_EQ(shipped.sweep.simd, built_in.sweep.simd);
   EXPECT_EQ(shipped.relocalizer.patch_px, built_in.relocalizer.patch_px);
   EXPECT_EQ(shipped.relocalizer.max_distance, built_in.relocalizer.max_distance);
   EXPECT_EQ(shipped.relocalizer.ratio, built_in.relocalizer.ratio);

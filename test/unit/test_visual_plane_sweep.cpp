@@ -26,10 +26,11 @@ struct SweepCase {
 };
 
 // A camera 5 m from a textured far wall (z = 5) whose left wall (x = -2) is blank.
-SweepCase sweepRoom() {
+SweepCase sweepRoom(bool simd = true) {
   const test::BoxRoom room({-2, -1.5, -3}, {3, 1.5, 5}, /*blank_wall=*/0);
   const CameraIntrinsics k = test::BoxRoom::camera();
-  const PlaneSweepParams params;
+  PlaneSweepParams params;
+  params.simd = simd;
   const CameraIntrinsics ks = downsampled(k, params.downsample);
   const Eigen::Isometry3d ref = test::BoxRoom::pose({0, 0, 0}, 0);
   const auto view = room.render(k, ref);
@@ -64,6 +65,16 @@ TEST(VisualPlaneSweep, ConfidentDepthIsAccurate) {
   ASSERT_GT(confident, 0);
   EXPECT_LT(abs_rel / confident, 0.03);
   EXPECT_GT(static_cast<double>(confident) / textured, 0.6);
+}
+
+TEST(VisualPlaneSweep, EveryInstructionSetGivesTheSameBits) {
+  if (fastestSweepIsa() == SweepIsa::kPortable) GTEST_SKIP() << "only the portable path on this CPU";
+  const SweepCase portable = sweepRoom(false), fast = sweepRoom(true);
+  for (const auto& [a, b] : {std::pair{portable.depth.depth, fast.depth.depth},
+                             std::pair{portable.depth.confidence, fast.depth.confidence}}) {
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_TRUE(std::equal(a.datastart, a.dataend, b.datastart));  // NaN by its bits
+  }
 }
 
 TEST(VisualPlaneSweep, BlankWallIsNotConfident) {

@@ -77,6 +77,7 @@ struct PlaneSweepParams {
   double near_fraction = 0.4;         // nearest plane at this fraction of the 2nd-percentile point depth
   double confidence_gain = 9.0;       // see plane_sweep.h: the 4.0 cut = rival 1.4x the best cost
   double max_confidence = 20.0;
+  bool simd = true;  // the AVX2 loops where the CPU has them; false: the portable ones (the same bits, slower)
 };
 
 struct RelocalizerParams {

@@ -29,7 +29,8 @@ nlohmann::json runReportHeader(const std::string& tool, const Config& config);
 double snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
                          const nlohmann::json& header, SnapshotSchedule& schedule);
 
-// Writes every output but report.json and adds files, statistics and ground truth to
+// Writes every output but report.json and adds files, statistics, ground truth and
+// output_stage_seconds (the seconds of each part; the exports run beside the rest) to
 // `report`. `map`: the engine map the episode ran on, or that shadowed the learned world
 // (null: no ground truth; report.json's ground_truth is null, and so is frames_rendered
 // and there is no gt_trajectory.txt when the frames came without truth).

@@ -31,6 +31,7 @@ std::vector<std::string> exportFiles(const std::vector<std::string>& formats);
 // so nothing is written when one exists and `overwrite` is false. A format needing
 // points, or triangles, that the map lacks is skipped with the reason. Returns
 // {"files", "skipped", "map_points", "mesh", "walkable", "map_frame"} for a report.
+// The mesh is made on a second thread, beside the other formats.
 nlohmann::json exportRunMap(const RunMap& run, const std::vector<std::string>& formats, const std::string& out,
                             bool overwrite);
 

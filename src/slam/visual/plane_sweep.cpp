@@ -59,24 +59,29 @@ CompensatedSource compensate(const SweepView& source, const Eigen::Matrix3d& kk,
 
 // Adds min(|ref - source(plane rho)|, truncation) to `sum` for every reference pixel
 // (kInvalid outside the source), by linear interpolation of a vertically blended
-// canvas row. Written by hand: no
-// OpenCV call samples a per-plane affine map and takes the truncated difference in one
-// pass, and these samples (planes x sources x pixels) are most of the frame's budget.
+// canvas row. No OpenCV call samples a per-plane affine map and takes the truncated
+// difference in one pass, and these samples (planes x sources x pixels) are most of
+// the frame's budget: the row loop is sweep_kernels.h's.
 void addPlaneDifference(const cv::Mat& ref, const CompensatedSource& src, double rho, float truncation,
-                        cv::Mat& sum, std::vector<float>& row) {
+                        cv::Mat& sum, std::vector<float>& row, SweepIsa isa) {
   const double w = 1.0 + rho * src.epipole.z();
   if (w <= 1e-6) {  // the plane is behind the source camera
     sum += kInvalid;
     return;
   }
   const float scale = static_cast<float>(1.0 / w);
-  const float shift_x = static_cast<float>(rho * src.epipole.x() / w) + static_cast<float>(src.margin);
   const float shift_y = static_cast<float>(rho * src.epipole.y() / w) + static_cast<float>(src.margin);
   const int cols = src.canvas.cols;
-  const float max_u = static_cast<float>(cols - 1) - 1e-3f, max_v = static_cast<float>(src.canvas.rows - 1) - 1e-3f;
+  RowSampling sampling;
+  sampling.scale = scale;
+  sampling.shift = static_cast<float>(rho * src.epipole.x() / w) + static_cast<float>(src.margin);
+  sampling.max_u = static_cast<float>(cols - 1) - 1e-3f;
+  sampling.truncation = truncation;
+  sampling.implausible = kImplausible;
+  sampling.invalid = kInvalid;
+  const float max_v = static_cast<float>(src.canvas.rows - 1) - 1e-3f;
   row.resize(cols);
   for (int y = 0; y < ref.rows; ++y) {
-    const float* r = ref.ptr<float>(y);
     float* out = sum.ptr<float>(y);
     const float v = scale * static_cast<float>(y) + shift_y;
     if (!(v >= 0 && v < max_v)) {
@@ -87,59 +92,10 @@ void addPlaneDifference(const cv::Mat& ref, const CompensatedSource& src, double
     const float fy = v - static_cast<float>(v0);
     const float* top = src.canvas.ptr<float>(v0);
     const float* bottom = src.canvas.ptr<float>(v0 + 1);
-    for (int u = 0; u < cols; ++u) row[u] = top[u] + fy * (bottom[u] - top[u]);
-    for (int x = 0; x < ref.cols; ++x) {
-      const float u = scale * static_cast<float>(x) + shift_x;
-      const bool in = u >= 0 && u < max_u;
-      const int u0 = in ? static_cast<int>(u) : 0;
-      const float fx = u - static_cast<float>(u0);
-      const float value = row[u0] + fx * (row[u0 + 1] - row[u0]);
-      const float d = std::abs(r[x] - value);
-      out[x] += in && d < kImplausible ? std::min(d, truncation) : kInvalid;
-    }
+    blendRows(top, bottom, fy, cols, row.data(), isa);
+    addTruncatedDifferences(ref.ptr<float>(y), row.data(), ref.cols, sampling, out, isa);
   }
 }
-
-// Per pixel, what the winner and its confidence need from the cost curve, updated one
-// plane at a time so the cost volume is never stored: the best plane, its neighbours'
-// costs (sub-plane parabola) and the cheapest cost at least three planes away.
-class CurveTracker {
- public:
-  explicit CurveTracker(size_t pixels)
-      : c1_(pixels, kInf), left_(pixels, kInf), right_(pixels, kInf), before_(pixels, kInf), after_(pixels, kInf),
-        lag_min_(pixels, kInf), prev1_(pixels, kInf), prev2_(pixels, kInf), prev3_(pixels, kInf), best_(pixels, 0) {}
-
-  // Costs of `invalid` or more are not scored (see kInvalid).
-  void add(int plane, const float* cost, float invalid) {
-    const size_t n = c1_.size();
-    for (size_t p = 0; p < n; ++p) {
-      const float c = cost[p] < invalid ? cost[p] : kInf;
-      const float lag = std::min(lag_min_[p], prev3_[p]);  // min of planes 0 .. plane-3
-      const bool better = c < c1_[p];
-      const int best = best_[p];
-      const float after = plane == best + 1 ? c : after_[p];
-      const float right = plane > best + 2 ? std::min(right_[p], c) : right_[p];
-      left_[p] = better ? lag : left_[p];
-      before_[p] = better ? prev1_[p] : before_[p];
-      after_[p] = better ? kInf : after;
-      right_[p] = better ? kInf : right;
-      c1_[p] = better ? c : c1_[p];
-      best_[p] = better ? plane : best;
-      lag_min_[p] = lag;
-      prev3_[p] = prev2_[p], prev2_[p] = prev1_[p], prev1_[p] = c;
-    }
-  }
-  int best(size_t p) const { return best_[p]; }
-  float bestCost(size_t p) const { return c1_[p]; }
-  float rivalCost(size_t p) const { return std::min(left_[p], right_[p]); }
-  float before(size_t p) const { return before_[p]; }
-  float after(size_t p) const { return after_[p]; }
-
- private:
-  static constexpr float kInf = std::numeric_limits<float>::infinity();
-  std::vector<float> c1_, left_, right_, before_, after_, lag_min_, prev1_, prev2_, prev3_;
-  std::vector<int> best_;
-};
 
 // Largest disparity, over a few border pixels and the sources, between the planes at
 // infinity and at 1 / rho_max.
@@ -191,7 +147,8 @@ SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& 
 
   const cv::Size window(params.window_px, params.window_px);
   const float truncation = static_cast<float>(params.truncation);
-  CurveTracker curve(size.area());
+  const SweepIsa isa = params.simd ? fastestSweepIsa() : SweepIsa::kPortable;
+  CostCurveTracker curve(size.area(), isa);
   // Padding keeps samples that leave the reference's view but not the source's.
   const int margin = std::max(size.width, size.height) / 8;
   std::vector<CompensatedSource> compensated;
@@ -202,7 +159,7 @@ SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& 
   for (int i = 0; i < n; ++i) {
     sum.setTo(0);
     for (const CompensatedSource& c : compensated)
-      addPlaneDifference(reference.image, c, i * rho_step, truncation, sum, row);
+      addPlaneDifference(reference.image, c, i * rho_step, truncation, sum, row, isa);
     cv::boxFilter(sum, cost, CV_32F, window, cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
     curve.add(i, cost.ptr<float>(0), kInvalid / static_cast<float>(params.window_px * params.window_px));
   }

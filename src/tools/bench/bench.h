@@ -18,8 +18,13 @@ BenchRun addBenchMap(CLI::App& bench);
 BenchRun addBenchDepth(CLI::App& bench);
 BenchRun addBenchExtent(CLI::App& bench);
 BenchRun addBenchWorldModel(CLI::App& bench);
+BenchRun addBenchSweep(CLI::App& bench);
 
 // Peak resident memory of this process so far.
 double peakResidentMiB();
+
+// Restricts this process to the first CPU it may run on, so "per core" is literal;
+// returns that CPU, -1 if it could not.
+int pinToOneCpu();
 
 }  // namespace valerant::tools

@@ -19,21 +19,6 @@
 namespace valerant::tools {
 namespace {
 
-// Restricts this process to the first CPU it may run on, so "per core" is literal.
-int pinToOneCpu() {
-  cpu_set_t allowed;
-  CPU_ZERO(&allowed);
-  if (sched_getaffinity(0, sizeof(allowed), &allowed) != 0) return -1;
-  for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
-    if (!CPU_ISSET(cpu, &allowed)) continue;
-    cpu_set_t one;
-    CPU_ZERO(&one);
-    CPU_SET(cpu, &one);
-    return sched_setaffinity(0, sizeof(one), &one) == 0 ? cpu : -1;
-  }
-  return -1;
-}
-
 nlohmann::json runSlamBench(const Config& config, const std::string& candidate_list, long repeats) {
   tools::requireEngineWorld(config, "valerant_bench slam");
   const std::string backend = config.slam.backend;
@@ -113,6 +98,20 @@ nlohmann::json runSlamBench(const Config& config, const std::string& candidate_l
 }
 
 }  // namespace
+
+int pinToOneCpu() {
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof(allowed), &allowed) != 0) return -1;
+  for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+    if (!CPU_ISSET(cpu, &allowed)) continue;
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cpu, &one);
+    return sched_setaffinity(0, sizeof(one), &one) == 0 ? cpu : -1;
+  }
+  return -1;
+}
 
 BenchRun addBenchSlam(CLI::App& bench) {
   CLI::App* app = bench.add_subcommand("slam",

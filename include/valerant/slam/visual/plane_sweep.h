@@ -29,6 +29,7 @@
 
 #include "valerant/common/camera.h"
 #include "valerant/config/visual_slam_config.h"
+#include "valerant/slam/visual/sweep_kernels.h"
 
 namespace valerant::visual {
 
@@ -47,6 +48,7 @@ struct SweepDepth {
 cv::Mat sweepImage(const cv::Mat& grey, const PlaneSweepParams& params);
 
 // `k`: intrinsics at sweep resolution. Throws InputError for no source or near <= 0.
+// params.simd picks the inner loops' instructions (sweep_kernels.h); both give the same bits.
 SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& sources,
                       const CameraIntrinsics& k, double near, const PlaneSweepParams& params);
 
