@@ -13,6 +13,7 @@
 #include "valerant/eval/map_accuracy.h"
 #include "valerant/eval/trajectory_metrics.h"
 #include "valerant/explore/episode_json.h"
+#include "valerant/explore/stage_seconds.h"
 #include "valerant/explore/topdown_image.h"
 #include "valerant/map/run_exports.h"
 #include "valerant/map/run_map.h"
@@ -35,11 +36,20 @@ RunMap runMapOf(const Episode& episode) {
                 episode.trajectory(), nlohmann::json::object()};
 }
 
-nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map, const std::vector<FusedPoint>& cloud) {
+using Clock = std::chrono::steady_clock;
+
+// `seconds`: the time of each part is added to it.
+nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map, const std::vector<FusedPoint>& cloud,
+                           nlohmann::json& seconds) {
   const Config& config = episode.config();
   const auto spawn = map.bsp.spawnPoints().at(config.world.spawn);
+  auto t = Clock::now();
   const auto reachable = quake3::floodFillReachableFloor(*map.collision, spawn.origin);
+  seconds["reachable_floor"] = secondsSince(t);
+  t = Clock::now();
   const EpisodeTruth truth = evaluateEpisodeTruth(episode, reachable);
+  seconds["episode_truth"] = secondsSince(t);
+  t = Clock::now();
   std::vector<Eigen::Vector3d> map_metres;
   if (truth.aligned || truth.floor_aligned)
     for (const auto& p : cloud) map_metres.push_back(truth.map_to_world_metres.apply(p.position.cast<double>()));
@@ -47,6 +57,7 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
       mapAccuracy(map_metres, quake3::sampleSurfaces(map.geometry, kSurfaceSamplesPerSquareMetre, config.world.seed),
                   episode.truth(),
                   CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg));
+  seconds["map_accuracy"] = secondsSince(t);
   const CoverageCurve curve = coverageByCommittedStep(episode.history(), truth.observed_percent_by_step);
   int penetration_free_steps = 0;  // committed steps none of whose frames entered solid
   for (const auto& s : episode.history()) penetration_free_steps += s.chosen >= 0 && stepInSolidFrames(s) == 0;
@@ -156,7 +167,6 @@ nlohmann::json runReportHeader(const std::string& tool, const Config& config) {
 double snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
                          const nlohmann::json& header, SnapshotSchedule& schedule) {
   if (step.chosen < 0 && !step.rewind) return 0;  // a stall leaves the map as it was
-  using Clock = std::chrono::steady_clock;
   auto seconds = [](Clock::time_point t) { return std::chrono::duration<double>(t.time_since_epoch()).count(); };
   const double start = seconds(Clock::now());
   if (!schedule.due(start)) return 0;
@@ -174,21 +184,19 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   const Config& config = episode.config();
   const std::vector<FusedPoint> cloud =
       episode.map().voxelCloud(config.map.voxel_eye_heights * episode.anchorEyeHeight());
-  using Clock = std::chrono::steady_clock;
-  auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
   nlohmann::json seconds = nlohmann::json::object();  // of each part below
   // The map kept for valerant_export, and every export format through the same code.
   auto t = Clock::now();
   const RunMap run = runMapOf(episode);
   report["run_map"] = saveRunMap(out, run, overwrite);
-  seconds["run_map"] = since(t);
+  seconds["run_map"] = secondsSince(t);
   // The exports (the mesh most) read only `run`, the rest below only the episode: they
   // run beside each other, on the machine's two cores. get() rethrows an export's error;
   // an error here first waits for the exports (the future's destructor).
   std::future<std::pair<nlohmann::json, double>> exports = std::async(std::launch::async, [&] {
     const auto start = Clock::now();
     nlohmann::json written = exportRunMap(run, exportFormats(), out, overwrite);
-    return std::pair{std::move(written), since(start)};
+    return std::pair{std::move(written), secondsSince(start)};
   });
   t = Clock::now();
   std::vector<StampedPose> slam_poses, truth_poses;
@@ -232,14 +240,16 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
     report["frames_rendered"] = n;
   }
   report["loop_closures"] = loopClosures(episode);
-  seconds["trajectories_and_images"] = since(t);
+  seconds["trajectories_and_images"] = secondsSince(t);
   t = Clock::now();
   // null: no ground truth (no engine map: the learned world from a screenshot, a bag).
-  report["ground_truth"] = map ? groundTruth(episode, *map, cloud) : nlohmann::json();
-  seconds["ground_truth"] = since(t);
+  nlohmann::json truth_seconds = nlohmann::json::object();
+  report["ground_truth"] = map ? groundTruth(episode, *map, cloud, truth_seconds) : nlohmann::json();
+  seconds["ground_truth"] = secondsSince(t);
+  seconds["ground_truth_parts"] = truth_seconds;
   t = Clock::now();
   auto [written, export_seconds] = exports.get();
-  seconds["waiting_for_exports"] = since(t);
+  seconds["waiting_for_exports"] = secondsSince(t);
   seconds["exports"] = export_seconds;
   report["exports"] = std::move(written);
   nlohmann::json files = report["exports"]["files"];

@@ -59,6 +59,25 @@ TEST(MapAccuracy, CompletenessOfWhatTheCameraSaw) {
   EXPECT_EQ(empty.completeness_percent, 0.0);
 }
 
+// A frame tests only the samples within its reach (map_accuracy.cpp): the largest
+// truth depth (1 m) / 0.95 times the corner ray (sqrt(1 + 2 (32.5/32)^2) = 1.75 per metre
+// of depth), 1.86 m here. The floor's corner samples (1.73 m away) are still seen; a
+// patch 100 m away, and samples 5 m under the floor (farther than the truth depth, so
+// hidden) are not.
+TEST(MapAccuracy, SamplesBeyondAFramesReachAreNotSeen) {
+  const CameraIntrinsics k = CameraIntrinsics::fromHorizontalFov(64, 64, 90);
+  std::vector<quake3::SurfaceSample> samples = floorSamples();
+  for (const auto& s : floorSamples()) {
+    samples.push_back({s.position + Eigen::Vector3f(100, 0, 0) * kUnits, Eigen::Vector3f::UnitZ()});
+    samples.push_back({s.position + Eigen::Vector3f(0, 0, -5) * kUnits, Eigen::Vector3f::UnitZ()});
+  }
+  std::vector<Eigen::Vector3d> map;
+  for (const auto& s : floorSamples()) map.push_back(s.position.cast<double>() / kUnits);
+  const MapAccuracy a = mapAccuracy(map, samples, {downCamera(k)}, k);
+  EXPECT_EQ(a.seen_samples, 400);  // the 20 x 20 of CompletenessOfWhatTheCameraSaw
+  EXPECT_DOUBLE_EQ(a.completeness_percent, 100.0);
+}
+
 // Truth poses without depth (what the graph's explorer has): completeness is not
 // measured (NaN), while accuracy still is.
 TEST(MapAccuracy, CompletenessNeedsDepthTruth) {
