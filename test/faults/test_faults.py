@@ -350,7 +350,7 @@ class Faults(unittest.TestCase):
                     self.assertIn(path_flag + ": an empty value names no folder", err)
         status, _, err = run([tool("valerant_bench"), "rendre"])
         self.assertEqual(status, USAGE_ERROR, err)
-        self.assertIn("'rendre': unknown subcommand (one of: render, slam, graph, map, depth, extent, wm)", err)
+        self.assertIn("'rendre': unknown subcommand (one of: render, slam, graph, map, depth, extent, wm, sweep)", err)
         # Counts that render nothing once wrote no shard and exited 0.
         status, _, err = run([tool("valerant_dataset"), "--maps", "oa_dm1", "--spawns", "0", "--rotations", "0",
                               "--walks", "0", "--out", out])
