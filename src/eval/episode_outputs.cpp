@@ -164,7 +164,7 @@ nlohmann::json runReportHeader(const std::string& tool, const Config& config) {
           {"loop_closure", config.loop_closure.enabled}};
 }
 
-double snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
+double snapshotAfterStep(RunSnapshot& snapshot, const Episode& episode, const StepRecord& step,
                          const nlohmann::json& header, SnapshotSchedule& schedule) {
   if (step.chosen < 0 && !step.rewind) return 0;  // a stall leaves the map as it was
   auto seconds = [](Clock::time_point t) { return std::chrono::duration<double>(t.time_since_epoch()).count(); };
@@ -173,7 +173,7 @@ double snapshotAfterStep(const std::string& out, const Episode& episode, const S
   nlohmann::json report = header;
   report["steps"] = step.step;
   report["committed_steps"] = episode.committedSteps();
-  saveRunSnapshot(out, runMapOf(episode), report);
+  snapshot.write(runMapOf(episode), report);
   const double end = seconds(Clock::now());
   schedule.written(start, end);
   return end - start;

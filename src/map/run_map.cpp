@@ -1,15 +1,5 @@
 #include "valerant/map/run_map.h"
 
-#define PCL_NO_PRECOMPILE
-#include <pcl/common/io.h>
-#include <pcl/console/print.h>
-#include <pcl/conversions.h>
-#include <pcl/io/pcd_io.h>
-#include <pcl/point_types.h>
-
-#include <fcntl.h>
-#include <stdio.h>
-
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -19,26 +9,7 @@
 #include "valerant/common/error.h"
 #include "valerant/common/output_file.h"
 #include "valerant/common/tum_trajectory.h"
-
-namespace valerant {
-namespace {
-
-struct KeyframePoint {
-  PCL_ADD_POINT4D;
-  PCL_ADD_RGB;
-  float confidence;
-  float h;
-  std::uint32_t keyframe;
-  PCL_MAKE_ALIGNED_OPERATOR_NEW
-};
-
-}  // namespace
-}  // namespace valerant
-
-POINT_CLOUD_REGISTER_POINT_STRUCT(valerant::KeyframePoint,
-                                  (float, x, x)(float, y, y)(float, z, z)(float, rgb, rgb)(float, confidence,
-                                                                                           confidence)(
-                                      float, h, h)(std::uint32_t, keyframe, keyframe))
+#include "valerant/map/keyframe_points_file.h"
 
 namespace valerant {
 namespace {
@@ -89,22 +60,6 @@ std::vector<Eigen::Isometry3d> readPoses(const std::string& path) {
   return poses;
 }
 
-pcl::PointCloud<KeyframePoint> readKeyframePoints(const std::string& path) {
-  requireFile(path);
-  pcl::PCLPointCloud2 blob;
-  // PCL reports its own parse errors on the console; ours names the file in one line.
-  const auto verbosity = pcl::console::getVerbosityLevel();
-  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  const int status = pcl::io::loadPCDFile(path, blob);
-  pcl::console::setVerbosityLevel(verbosity);
-  if (status != 0) throw InputError(path, "PCL cannot read it (truncated or not a PCD file)");
-  for (const char* name : {"x", "y", "z", "rgb", "confidence", "h", "keyframe"})
-    if (pcl::getFieldIndex(blob, name) < 0) throw InputError(path, std::string("has no field '") + name + "'");
-  pcl::PointCloud<KeyframePoint> cloud;
-  pcl::fromPCLPointCloud2(blob, cloud);
-  return cloud;
-}
-
 }  // namespace
 
 CoverageGrid RunMap::grid() const {
@@ -124,37 +79,15 @@ nlohmann::json saveRunMap(const std::string& dir, const RunMap& run, bool overwr
   if (!fs::is_regular_file(config_copy))
     throw InputError(config_copy, "missing: copy the run's configuration first (saveRunConfig)");
 
-  pcl::PointCloud<KeyframePoint> cloud;
-  std::vector<StampedPose> poses;
   const auto& keyframes = run.map.keyframes();
-  for (size_t k = 0; k < keyframes.size(); ++k) {
-    poses.push_back({static_cast<double>(k), keyframes[k]->camera_to_map});
-    for (const auto& p : keyframes[k]->points) {
-      KeyframePoint q;
-      q.x = p.position.x(), q.y = p.position.y(), q.z = p.position.z();
-      q.r = p.rgb[0], q.g = p.rgb[1], q.b = p.rgb[2], q.a = 255;
-      q.confidence = p.confidence;
-      q.h = p.h;
-      q.keyframe = static_cast<std::uint32_t>(k);
-      cloud.push_back(q);
-    }
-  }
-  // PCL refuses to write a cloud without points; an empty map still gets a valid file.
-  if (cloud.empty()) {
-    writeFileAtomically(points_path,
-                        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\n"
-                        "FIELDS x y z rgb confidence h keyframe\nSIZE 4 4 4 4 4 4 4\nTYPE F F F F F F U\n"
-                        "COUNT 1 1 1 1 1 1 1\nWIDTH 0\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 0\nDATA ascii\n");
-  } else {
-    writeThroughTemporary(points_path, "PCL's PCD writer", [&](const std::string& temporary) {
-      return pcl::io::savePCDFileBinaryCompressed(temporary, cloud) == 0;
-    });
-  }
+  const size_t points = writeKeyframePoints(points_path, keyframes, 0, keyframes.size());
+  std::vector<StampedPose> poses;
+  for (size_t k = 0; k < keyframes.size(); ++k) poses.push_back({static_cast<double>(k), keyframes[k]->camera_to_map});
   writeTumTrajectory(poses_path, poses);
   return {{"frame", toJson(run.frame)},
           {"config_bytes", fs::file_size(config_copy)},
           {"keyframes", keyframes.size()},
-          {"points", cloud.size()},
+          {"points", points},
           {"trajectory_poses", run.trajectory.size()}};
 }
 
@@ -165,40 +98,6 @@ void saveRunConfig(const std::string& dir, const ConfigDocument& config, bool ov
 }
 
 std::string runSnapshotDir(const std::string& dir) { return inside(dir, kSnapshot); }
-
-void saveRunSnapshot(const std::string& dir, const RunMap& run, nlohmann::json report) {
-  const std::string config_path = inside(dir, kConfig);
-  requireFile(config_path);
-  const std::string building = inside(dir, ".snapshot.partial");
-  fs::remove_all(building);  // a build a killed process left behind
-  fs::create_directories(building);
-  try {
-    std::ifstream in(config_path, std::ios::binary);
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    if (!in && !in.eof()) throw InputError(config_path, "cannot read");
-    writeFileAtomically(inside(building, kConfig), bytes.str());
-    report["run_map"] = saveRunMap(building, run, false);
-    std::vector<StampedPose> trajectory;
-    for (size_t i = 0; i < run.trajectory.size(); ++i) trajectory.push_back({double(i), run.trajectory[i]});
-    writeTumTrajectory(inside(building, kTrajectory), trajectory);
-    report["snapshot"] = true;
-    writeFileAtomically(inside(building, kReport), report.dump(2) + '\n');
-  } catch (...) {
-    std::error_code ignored;  // the failure itself is what the caller hears about
-    fs::remove_all(building, ignored);
-    throw;
-  }
-  const std::string snapshot = runSnapshotDir(dir);
-  // Swap the new snapshot in: one rename, whether or not an old one is there.
-  if (fs::exists(snapshot)) {
-    if (::renameat2(AT_FDCWD, building.c_str(), AT_FDCWD, snapshot.c_str(), RENAME_EXCHANGE) != 0)
-      throw InputError(snapshot, std::string("cannot swap in the new snapshot: ") + std::strerror(errno));
-    fs::remove_all(building);  // now the old snapshot
-  } else if (::rename(building.c_str(), snapshot.c_str()) != 0) {
-    throw InputError(snapshot, std::string("cannot move the snapshot into place: ") + std::strerror(errno));
-  }
-}
 
 RunMap loadRunMap(const std::string& dir) {
   if (!fs::is_directory(dir)) throw InputError(dir, "no such run directory");
@@ -221,20 +120,29 @@ RunMap loadRunMap(const std::string& dir) {
   const auto keyframe_poses = readPoses(poses_path);
   requireCount(poses_path, keyframe_poses.size(), count(run_map, "keyframes", report_path), "keyframe poses");
 
-  const std::string points_path = inside(dir, kKeyframePoints);
-  const auto cloud = readKeyframePoints(points_path);
-  requireCount(points_path, cloud.size(), count(run_map, "points", report_path), "points");
   std::vector<std::shared_ptr<FusedKeyframe>> keyframes;
   for (const auto& pose : keyframe_poses) {
     keyframes.push_back(std::make_shared<FusedKeyframe>());
     keyframes.back()->id = newKeyframeId();
     keyframes.back()->camera_to_map = pose;
   }
-  for (const auto& q : cloud) {
-    if (q.keyframe >= keyframes.size())
-      throw InputError(points_path, "a point names keyframe " + std::to_string(q.keyframe) + ", beyond " +
-                                        poses_path);
-    keyframes[q.keyframe]->points.push_back({q.getVector3fMap(), {q.r, q.g, q.b}, q.confidence, q.h});
+  // One file, or a snapshot's parts (run_snapshot.h).
+  std::vector<std::pair<std::string, size_t>> point_files;  // name, points
+  if (run_map.contains("point_files")) {
+    if (!run_map["point_files"].is_array()) throw InputError(report_path, "run_map: point_files is not a list");
+    for (const auto& part : run_map["point_files"]) {
+      const std::string name =
+          part.is_object() && part.contains("file") && part["file"].is_string() ? part["file"].get<std::string>() : "";
+      if (name.empty() || name.find('/') != std::string::npos || name[0] == '.')
+        throw InputError(report_path, "run_map: point_files holds an entry that is no file name in the run directory");
+      point_files.emplace_back(name, count(part, "points", report_path));
+    }
+  } else {
+    point_files.emplace_back(kKeyframePoints, count(run_map, "points", report_path));
+  }
+  for (const auto& [name, points] : point_files) {
+    const std::string points_path = inside(dir, name.c_str());
+    requireCount(points_path, readKeyframePoints(points_path, keyframes), points, "points");
   }
 
   const std::string trajectory_path = inside(dir, kTrajectory);

@@ -131,10 +131,11 @@ class Explorer {
       AppendOnlyLog decisions(out + "/decisions.jsonl", false);
       nlohmann::json report = runReportHeader("explorer", config);
       SnapshotSchedule snapshots;
+      RunSnapshot snapshot(out);
       while (!episode.finished() && !stop()) {
         const StepRecord r = episode.step();
         decisions.writeLine(toJson(r).dump());
-        snapshotAfterStep(out, episode, r, report, snapshots);
+        snapshotAfterStep(snapshot, episode, r, report, snapshots);
         publishStep(episode, r);
         ROS_INFO_STREAM("explorer: step " << r.step << ": "
                                           << (r.chosen >= 0

@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
     const auto episode_start = Clock::now();
     auto last_line = episode_start;
     SnapshotSchedule snapshots;
+    RunSnapshot snapshot(out);
     double snapshot_seconds = 0;  // writing the map snapshots: outside the steps' own timings
 
     std::signal(SIGINT, onSignal);
@@ -168,7 +169,7 @@ int main(int argc, char** argv) {
           } else {
             decisions.writeLine(decision.dump());
           }
-          snapshot_seconds += snapshotAfterStep(out, episode, r, report, snapshots);
+          snapshot_seconds += snapshotAfterStep(snapshot, episode, r, report, snapshots);
           StepProgress progress;
           if (coverage) progress.observed_percent = coverage->update(episode);
           progress.resident_bytes = residentMemory().current_bytes;

@@ -38,7 +38,7 @@ TIMEOUT = 300  # seconds: any tool that runs longer than this hangs
 ALWAYS_WRITTEN = ["config.yaml", "decisions.jsonl", "keyframes.pcd", "keyframes.txt", "trajectory.txt",
                   "gt_trajectory.txt", "topdown.png", "view.png", "report.json", "grid.pgm", "grid.yaml",
                   "walkable.json"]
-SNAPSHOT_FILES = ["config.yaml", "keyframes.pcd", "keyframes.txt", "trajectory.txt", "report.json"]
+SNAPSHOT_FILES = ["config.yaml", "keyframes.000000.pcd", "keyframes.txt", "trajectory.txt", "report.json"]
 MAP_EXPORTS = ["map.ply", "map.pcd", "map.bt", "mesh.obj", "mesh.glb", "overview.png", "orbit.png"]
 USAGE_ERROR = 2  # the exit status of a bad command line (src/tools/command_line.h)
 CONFIG_FLAGS = ["--config", "--set"]

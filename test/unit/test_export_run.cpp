@@ -213,20 +213,3 @@ TEST(ExportRun, FormatListsAreChecked) {
   EXPECT_THROW(parseFormats("ply,ply"), InputError);
   EXPECT_THROW(parseFormats(""), InputError);
 }
-
-TEST(ExportRun, TheSnapshotOfAnUnfinishedRunIsARunOfItsOwn) {
-  const RunMap run = corridorRun();
-  const std::string dir = freshDir("snapshot");
-  saveRunConfig(dir, ConfigDocument::load(defaultConfigPath()), false);
-  RunMap first = corridorRun();
-  first.trajectory.resize(10);  // an earlier step: fewer poses
-  saveRunSnapshot(dir, first, {{"tool", "valerant_explore"}, {"steps", 1}});
-  saveRunSnapshot(dir, run, {{"tool", "valerant_explore"}, {"steps", 2}});  // swapped in over the first
-  EXPECT_FALSE(fs::exists(dir + "/.snapshot.partial"));
-  // The run itself has no report yet: loading it points at the snapshot.
-  EXPECT_NE(loadError(dir).find("the map of its committed steps is in " + runSnapshotDir(dir)), std::string::npos);
-  const RunMap loaded = loadRunMap(runSnapshotDir(dir));
-  EXPECT_EQ(loaded.report["steps"], 2);
-  EXPECT_EQ(loaded.trajectory.size(), run.trajectory.size());
-  EXPECT_EQ(loaded.map.keyframes().size(), run.map.keyframes().size());
-}

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "valerant/eval/snapshot_schedule.h"
+#include "valerant/map/run_snapshot.h"
 #include "valerant/explore/episode.h"
 #include "valerant/world/quake3/quake3_map.h"
 
@@ -23,10 +24,10 @@ namespace valerant {
 nlohmann::json runReportHeader(const std::string& tool, const Config& config);
 
 // After a step that changed the map (a commit or a rewind), the map of the committed
-// steps into `out`/snapshot (run_map.h saveRunSnapshot), its report made of `header`
-// and the step counts, when `schedule` says one is due (snapshot_schedule.h). Returns
-// the seconds spent writing (0 when none was written).
-double snapshotAfterStep(const std::string& out, const Episode& episode, const StepRecord& step,
+// steps into the run's snapshot (run_snapshot.h), its report made of `header` and the
+// step counts, when `schedule` says one is due (snapshot_schedule.h). Returns the
+// seconds spent writing (0 when none was written).
+double snapshotAfterStep(RunSnapshot& snapshot, const Episode& episode, const StepRecord& step,
                          const nlohmann::json& header, SnapshotSchedule& schedule);
 
 // Writes every output but report.json and adds files, statistics, ground truth and

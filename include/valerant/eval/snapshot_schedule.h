@@ -1,10 +1,11 @@
 #pragma once
 // When a run writes the snapshot of its committed steps (episode_outputs.h): the first
 // time it is asked, then once the time since the last write ended is at least
-// (1 / max_share - 1) times that write's duration. The snapshot holds the whole map, so
-// writing it after every step grew a long run with the square of its steps (a 38-step
-// oracle run: 19 MB a write); this way writing takes at most `max_share` of the run's
-// time. A short run, whose map writes in a fraction of a step, still writes after every step.
+// (1 / max_share - 1) times that write's duration, so writing takes at most `max_share`
+// of the run's time. The snapshot once held the whole map in one file, and writing it
+// after every step grew a long run with the square of its steps; it is now written in
+// parts (map/run_snapshot.h) and a write costs what the map gained, a fraction of a step,
+// so in practice the run writes after every step and this cap is a guard.
 namespace valerant {
 
 class SnapshotSchedule {
