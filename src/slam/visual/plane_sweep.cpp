@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "valerant/common/error.h"
+#include "valerant/slam/visual/box_mean.h"
 #include "valerant/slam/visual/pinhole.h"
 
 namespace valerant::visual {
@@ -145,7 +146,6 @@ SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& 
                            params.min_planes, params.max_planes);
   const double rho_step = rho_max / (n - 1);
 
-  const cv::Size window(params.window_px, params.window_px);
   const float truncation = static_cast<float>(params.truncation);
   const SweepIsa isa = params.simd ? fastestSweepIsa() : SweepIsa::kPortable;
   CostCurveTracker curve(size.area(), isa);
@@ -156,11 +156,12 @@ SweepDepth planeSweep(const SweepView& reference, const std::vector<SweepView>& 
     compensated.push_back(compensate(sources[s], kk, ref_to_src[s], size, margin));
   cv::Mat sum(size, CV_32F), cost(size, CV_32F);
   std::vector<float> row;
+  BoxMean window_mean(params.window_px, isa);
   for (int i = 0; i < n; ++i) {
     sum.setTo(0);
     for (const CompensatedSource& c : compensated)
       addPlaneDifference(reference.image, c, i * rho_step, truncation, sum, row, isa);
-    cv::boxFilter(sum, cost, CV_32F, window, cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
+    window_mean.apply(sum, cost);
     curve.add(i, cost.ptr<float>(0), kInvalid / static_cast<float>(params.window_px * params.window_px));
   }
 
