@@ -61,15 +61,19 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     // one datum, the branch's first floor (step_support.h).
     const FloorPlane& start = floors.front();
     const bool stepped = config_.step_height > 0;
+    // The cylinder counts only confident body-level points (bodyCylinderCounts); the
+    // stepped body looks at every point. Dropping the others here, before they are
+    // copied, keeps the counts and spares most of the committed steps' points (their
+    // floors and ceilings), which every candidate of a step went through.
+    auto counted = [&](double h, float confidence) {
+      return stepped || (confidence >= config_.min_confidence && h >= config_.height_low && h <= config_.height_high);
+    };
     std::vector<HeightedPoint> points;
-    size_t total = 0;
-    for (const auto& step : committed_) total += step->size();
-    for (const KeyframePoints& kf : keyframes_) total += kf.points.size();
-    points.reserve(total);
     for (const KeyframePoints& kf : keyframes_)
       for (const auto& p : kf.points) {
         const FloorPlane& datum = stepped ? start : floors[kf.frame];
-        points.push_back({p.position.cast<double>(), datum.normalisedHeight(p.position.cast<double>()), p.confidence});
+        const double h = datum.normalisedHeight(p.position.cast<double>());
+        if (counted(h, p.confidence)) points.push_back({p.position.cast<double>(), h, p.confidence});
       }
     if (start.cameraHeight() > 0) {
       const double radius = config_.body_radius * start.cameraHeight();
@@ -81,7 +85,8 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
           const Eigen::Vector3d x = p.position.cast<double>();
           if (start.axisDistanceSquared(x) <= radius * radius) continue;  // beside the body already
           const bool own = own_floor && std::isfinite(p.h);
-          points.push_back({x, own ? static_cast<double>(p.h) : start.normalisedHeight(x), p.confidence});
+          const double h = own ? static_cast<double>(p.h) : start.normalisedHeight(x);
+          if (counted(h, p.confidence)) points.push_back({x, h, p.confidence});
         }
     }
     // Eq. 6 at rho; a prefix also keeps prefix_clearance from the branch's points: rho
