@@ -34,9 +34,12 @@ class SampleCells {
     }
   }
   // Calls f(i) for every sample i in the cells meeting the box centre +- radius (and
-  // maybe a few more): a superset of the samples within `radius` of `centre`.
-  template <typename F>
-  void forEachNear(const Eigen::Vector3d& centre, double radius, F&& f) const {
+  // maybe a few more): a superset of the samples within `radius` of `centre`. Cells for
+  // which may_hold(cell centre, radius of the sphere around the cell) is false are
+  // skipped.
+  template <typename Keep, typename F>
+  void forEachNear(const Eigen::Vector3d& centre, double radius, Keep&& may_hold, F&& f) const {
+    const double cell_radius = 0.5 * std::sqrt(3.0) * cell_;
     Eigen::Vector3i from, to;
     for (int a = 0; a < 3; ++a) {
       from[a] = std::max(0, static_cast<int>(std::floor((centre[a] - radius - lo_[a]) / cell_)));
@@ -45,8 +48,12 @@ class SampleCells {
     }
     for (int x = from[0]; x <= to[0]; ++x)
       for (int y = from[1]; y <= to[1]; ++y)
-        for (int z = from[2]; z <= to[2]; ++z)
-          for (size_t i : members_[flat({x, y, z})]) f(i);
+        for (int z = from[2]; z <= to[2]; ++z) {
+          const std::vector<size_t>& members = members_[flat({x, y, z})];
+          if (members.empty() || !may_hold(lo_ + cell_ * (Eigen::Vector3d(x, y, z).array() + 0.5).matrix(), cell_radius))
+            continue;
+          for (size_t i : members) f(i);
+        }
   }
 
  private:
@@ -121,13 +128,38 @@ MapAccuracy mapAccuracy(const std::vector<Eigen::Vector3d>& map_points_m,
   std::vector<bool> seen(samples.size(), false);
   constexpr double kCellMetres = 4;
   const SampleCells cells(samples, kCellMetres);
+
   for (size_t f = 0; f < committed.size(); f += params.frame_stride) {
     const FrameTruth& frame = committed[f];
     if (frame.depth_m.empty()) continue;
     const double reach = reachOf(frame.depth_m, k, params.depth_agreement);
     if (!(reach > 0)) continue;
     Eigen::Isometry3d world_to_camera = frame.camera_to_world.inverse();
-    cells.forEachNear(frame.camera_to_world.translation() / quake3::kUnitsPerMetre, reach, [&](size_t i) {
+    // The view's four sides: lround keeps u in [0, cols) for x / z in
+    // [-0.5 - cx, cols - 0.5 - cx) / fx (and v alike); half a pixel wider each way.
+    // {slope, axis (0: x, 1: y), sign}: inside where sign * (lateral - slope z) >= 0.
+    const struct {
+      double slope;
+      int axis;
+      double sign;
+    } side_planes[4] = {{(-1.0 - k.cx) / k.fx, 0, 1},
+                        {(frame.depth_m.cols - k.cx) / k.fx, 0, -1},
+                        {(-1.0 - k.cy) / k.fy, 1, 1},
+                        {(frame.depth_m.rows - k.cy) / k.fy, 1, -1}};
+    // A cell whose sphere lies wholly behind the camera or wholly outside one side of the
+    // view (its planes widened by half a pixel, and the sphere by 1 %) holds no sample
+    // that can pass the test below.
+    auto inView = [&](const Eigen::Vector3d& centre_m, double radius_m) {
+      const Eigen::Vector3d c = world_to_camera * (centre_m * quake3::kUnitsPerMetre) / quake3::kUnitsPerMetre;
+      const double r = 1.01 * radius_m;
+      if (c.z() < -r) return false;
+      for (const auto& [slope, axis, sign] : side_planes) {
+        const double lateral = axis == 0 ? c.x() : c.y();
+        if (sign * (lateral - slope * c.z()) / std::sqrt(1 + slope * slope) < -r) return false;
+      }
+      return true;
+    };
+    cells.forEachNear(frame.camera_to_world.translation() / quake3::kUnitsPerMetre, reach, inView, [&](size_t i) {
       if (seen[i]) return;
       const Eigen::Vector3d c = world_to_camera * (samples[i] * quake3::kUnitsPerMetre) / quake3::kUnitsPerMetre;
       if (c.z() <= 0) return;

@@ -2,6 +2,8 @@
 // 2 m square at z = 0, a camera 1 m above looking straight down.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "valerant/eval/map_accuracy.h"
 
 using namespace valerant;
@@ -88,4 +90,46 @@ TEST(MapAccuracy, CompletenessNeedsDepthTruth) {
   EXPECT_TRUE(std::isnan(a.completeness_percent));
   EXPECT_EQ(a.seen_samples, 0);
   EXPECT_NEAR(a.median_m, 0.1, 1e-6);
+}
+
+// Each frame skips the 4 m cells wholly behind it or beside its view (map_accuracy.cpp);
+// the seen samples must be exactly those of testing every sample. A tilted camera with a
+// flat truth depth of 6 m and samples all around it, many on the 6 m plane, some just
+// inside and outside the image's edges.
+TEST(MapAccuracy, CellsOutsideTheViewHideNoSeenSample) {
+  const CameraIntrinsics k = CameraIntrinsics::fromHorizontalFov(80, 60, 90);
+  FrameTruth frame;
+  frame.camera_to_world.linear() =
+      (Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-1.9, Eigen::Vector3d::UnitX())).matrix();
+  frame.camera_to_world.translation() = Eigen::Vector3d(3, -2, 1.5) * kUnits;
+  frame.depth_m = cv::Mat(k.height, k.width, CV_32F, cv::Scalar(6.0f));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> anywhere(-30, 30), unit(0, 1);
+  std::vector<quake3::SurfaceSample> samples;
+  const Eigen::Isometry3d& pose = frame.camera_to_world;
+  for (int i = 0; i < 20000; ++i) {
+    Eigen::Vector3d metres;
+    if (i % 2 == 0) {
+      metres = Eigen::Vector3d(anywhere(rng), anywhere(rng), anywhere(rng)) + pose.translation() / kUnits;
+    } else {  // on the 6 m plane, over the image and half a pixel to 10 pixels past it
+      const double u = -10 + (k.width + 20) * unit(rng), v = -10 + (k.height + 20) * unit(rng);
+      const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1);
+      metres = (pose * (6.0 * ray * kUnits)) / kUnits;
+    }
+    samples.push_back({(metres * kUnits).cast<float>(), Eigen::Vector3f::UnitZ()});
+  }
+  int expected = 0;  // every sample tested, as mapAccuracy does it per sample
+  const Eigen::Isometry3d world_to_camera = pose.inverse();
+  for (const auto& s : samples) {
+    const Eigen::Vector3d m = s.position.cast<double>() / kUnits;
+    const Eigen::Vector3d c = world_to_camera * (m * kUnits) / kUnits;
+    if (c.z() <= 0) continue;
+    const long u = std::lround(k.fx * c.x() / c.z() + k.cx), v = std::lround(k.fy * c.y() / c.z() + k.cy);
+    if (u < 0 || v < 0 || u >= k.width || v >= k.height) continue;
+    expected += std::abs(6.0 - c.z()) <= 0.05 * c.z();
+  }
+  ASSERT_GT(expected, 1000);
+  MapAccuracyParams params;
+  params.frame_stride = 1;
+  EXPECT_EQ(mapAccuracy({{0, 0, 0}}, samples, {frame}, k, params).seen_samples, expected);
 }
