@@ -15,12 +15,6 @@ using namespace valerant::visual;
 
 namespace {
 
-std::vector<SweepIsa> isasHere() {
-  std::vector<SweepIsa> out = {SweepIsa::kPortable};
-  if (fastestSweepIsa() == SweepIsa::kAvx2) out.push_back(SweepIsa::kAvx2);
-  return out;
-}
-
 bool sameBits(const cv::Mat& a, const cv::Mat& b) {
   return a.size() == b.size() && a.type() == b.type() &&
          std::memcmp(a.ptr(), b.ptr(), a.total() * a.elemSize()) == 0;
@@ -35,7 +29,7 @@ TEST(BoxMean, ThreeByThreeByHand) {
   // centre (1,1): the mean of 1..9 = 5; corner (0,0): rows 1 1 2 / 1 1 2 / 4 4 5 = 21 / 9;
   // (0,2): 2 3 3 / 2 3 3 / 5 6 6 = 33 / 9; (2,1): 4 5 6 / 7 8 9 / 7 8 9 = 63 / 9 = 7.
   cv::Mat image = (cv::Mat_<float>(3, 3) << 1, 2, 3, 4, 5, 6, 7, 8, 9);
-  for (SweepIsa isa : isasHere()) {
+  for (SweepIsa isa : sweepIsasHere()) {
     cv::Mat mean;
     BoxMean(3, isa).apply(image, mean);
     EXPECT_FLOAT_EQ(mean.at<float>(1, 1), 5.0f);
@@ -55,7 +49,7 @@ TEST(BoxMean, EqualsOpenCvsBoxFilterBitForBit) {
       image.at<float>(0, 0) = 1e6f;  // a large value, as an invalid sample's cost
       cv::Mat expected;
       cv::boxFilter(image, expected, CV_32F, cv::Size(window, window), cv::Point(-1, -1), true, cv::BORDER_REPLICATE);
-      for (SweepIsa isa : isasHere()) {
+      for (SweepIsa isa : sweepIsasHere()) {
         cv::Mat mean;
         BoxMean(window, isa).apply(image, mean);
         EXPECT_TRUE(sameBits(mean, expected)) << "window " << window << ", " << size << ", isa " << static_cast<int>(isa);

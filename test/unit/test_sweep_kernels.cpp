@@ -12,12 +12,6 @@ using namespace valerant::visual;
 
 namespace {
 
-std::vector<SweepIsa> isasHere() {
-  std::vector<SweepIsa> out = {SweepIsa::kPortable};
-  if (fastestSweepIsa() == SweepIsa::kAvx2) out.push_back(SweepIsa::kAvx2);
-  return out;
-}
-
 bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
@@ -34,7 +28,7 @@ TEST(SweepKernels, TruncatedDifferencesByHand) {
   // |ref - (x + 0.5)|: 0.5, 0.25, 2.5 -> capped 1.5, 0.5, 0.5, 294.5 -> implausible,
   // 0.5, 0.5; x = 8 and 9 sample u = 8.5 and 9.5, outside [0, 8.5).
   const std::vector<float> expected = {1.5f, 1.25f, 2.5f, 1.5f, 1.5f, 1001, 1.5f, 1.5f, 1001, 1001};
-  for (SweepIsa isa : isasHere()) {
+  for (SweepIsa isa : sweepIsasHere()) {
     std::vector<float> out(10, 1.0f);
     addTruncatedDifferences(ref.data(), source.data(), 10, s, out.data(), isa);
     EXPECT_EQ(out, expected) << "isa " << static_cast<int>(isa);
@@ -45,7 +39,7 @@ TEST(SweepKernels, BlendByHand) {
   // Between rows 0..9 and 10..19 a quarter of the way: 2.5 more than the top row.
   std::vector<float> top(10), bottom(10);
   for (int i = 0; i < 10; ++i) top[i] = static_cast<float>(i), bottom[i] = static_cast<float>(i + 10);
-  for (SweepIsa isa : isasHere()) {
+  for (SweepIsa isa : sweepIsasHere()) {
     std::vector<float> out(10);
     blendRows(top.data(), bottom.data(), 0.25f, 10, out.data(), isa);
     for (int i = 0; i < 10; ++i) EXPECT_EQ(out[i], static_cast<float>(i) + 2.5f) << i;
@@ -60,7 +54,7 @@ TEST(SweepKernels, CostCurveByHand) {
   //   c: all invalid   no plane scored: best 0 at infinite cost, no rival
   const float a[6] = {5, 4, 1, 3, 6, 2}, b[6] = {2, 9, 9, 9, 1, 9}, c[6] = {100, 100, 200, 100, 100, 100};
   const float* curve_of_pixel[9] = {a, b, c, a, b, c, a, b, a};
-  for (SweepIsa isa : isasHere()) {
+  for (SweepIsa isa : sweepIsasHere()) {
     CostCurveTracker tracker(9, isa);
     for (int plane = 0; plane < 6; ++plane) {
       float costs[9];

@@ -79,6 +79,12 @@ SweepIsa fastestSweepIsa() {
 #endif
 }
 
+std::vector<SweepIsa> sweepIsasHere() {
+  std::vector<SweepIsa> out = {SweepIsa::kPortable};
+  if (fastestSweepIsa() != SweepIsa::kPortable) out.push_back(fastestSweepIsa());
+  return out;
+}
+
 void blendRows(const float* top, const float* bottom, float fy, int n, float* out, SweepIsa isa) {
 #ifdef VALERANT_SWEEP_AVX2
   if (isa == SweepIsa::kAvx2) return avx2Blend(top, bottom, fy, n, out);

@@ -18,6 +18,8 @@ enum class SweepIsa { kPortable, kAvx2 };
 
 // kAvx2 where this CPU has AVX2 (and the build is for x86-64), else kPortable.
 SweepIsa fastestSweepIsa();
+// Every path this CPU runs, kPortable first (what a test of both paths iterates over).
+std::vector<SweepIsa> sweepIsasHere();
 
 // out[u] = top[u] + fy (bottom[u] - top[u]) for u in [0, n): a source row between two
 // canvas rows.
