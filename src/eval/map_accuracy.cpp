@@ -50,8 +50,9 @@ class SampleCells {
       for (int y = from[1]; y <= to[1]; ++y)
         for (int z = from[2]; z <= to[2]; ++z) {
           const std::vector<size_t>& members = members_[flat({x, y, z})];
-          if (members.empty() || !may_hold(lo_ + cell_ * (Eigen::Vector3d(x, y, z).array() + 0.5).matrix(), cell_radius))
-            continue;
+          if (members.empty()) continue;
+          const Eigen::Vector3d cell_centre = lo_ + cell_ * (Eigen::Vector3d(x, y, z).array() + 0.5).matrix();
+          if (!may_hold(cell_centre, cell_radius)) continue;
           for (size_t i : members) f(i);
         }
   }

@@ -28,7 +28,8 @@ std::string partName(unsigned n) {
 }
 
 // Whether `part` still holds keyframes of the map, in its place.
-bool holds(const std::vector<std::shared_ptr<const FusedKeyframe>>& keyframes, size_t first, const std::vector<uint64_t>& ids) {
+bool holds(const std::vector<std::shared_ptr<const FusedKeyframe>>& keyframes, size_t first,
+           const std::vector<uint64_t>& ids) {
   if (first + ids.size() > keyframes.size()) return false;
   for (size_t i = 0; i < ids.size(); ++i)
     if (keyframes[first + i]->id != ids[i]) return false;
@@ -73,7 +74,8 @@ void RunSnapshot::write(const RunMap& run, nlohmann::json report) {
       parts.push_back(std::move(part));
     }
     std::vector<StampedPose> poses;
-    for (size_t k = 0; k < keyframes.size(); ++k) poses.push_back({static_cast<double>(k), keyframes[k]->camera_to_map});
+    for (size_t k = 0; k < keyframes.size(); ++k)
+      poses.push_back({static_cast<double>(k), keyframes[k]->camera_to_map});
     writeTumTrajectory(inside(building, "keyframes.txt"), poses);
     std::vector<StampedPose> trajectory;
     for (size_t i = 0; i < run.trajectory.size(); ++i) trajectory.push_back({double(i), run.trajectory[i]});

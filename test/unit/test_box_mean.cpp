@@ -52,7 +52,8 @@ TEST(BoxMean, EqualsOpenCvsBoxFilterBitForBit) {
       for (SweepIsa isa : sweepIsasHere()) {
         cv::Mat mean;
         BoxMean(window, isa).apply(image, mean);
-        EXPECT_TRUE(sameBits(mean, expected)) << "window " << window << ", " << size << ", isa " << static_cast<int>(isa);
+        EXPECT_TRUE(sameBits(mean, expected))
+            << "window " << window << ", " << size << ", isa " << static_cast<int>(isa);
       }
     }
   }
