@@ -66,7 +66,7 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     // copied, keeps the counts and spares most of the committed steps' points (their
     // floors and ceilings), which every candidate of a step went through.
     auto counted = [&](double h, float confidence) {
-      return stepped || (confidence >= config_.min_confidence && h >= config_.height_low && h <= config_.height_high);
+      return stepped || countedInBody(h, confidence, config_);
     };
     std::vector<HeightedPoint> points;
     for (const KeyframePoints& kf : keyframes_)

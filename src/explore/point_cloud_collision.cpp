@@ -21,8 +21,7 @@ std::vector<std::vector<int>> bodyCylinderCounts(const std::vector<HeightedPoint
   std::vector<Eigen::Vector3d> body;
   body.reserve(points.size());
   for (const auto& p : points)
-    if (p.confidence >= config.min_confidence && p.h >= config.height_low && p.h <= config.height_high &&
-        p.position.allFinite())
+    if (countedInBody(p.h, p.confidence, config) && p.position.allFinite())
       body.push_back(p.position);
   // The cell size from the smallest radius: a larger one only searches a wider box.
   const BodyPointIndex index(body, samples, *std::min_element(radii.begin(), radii.end()));

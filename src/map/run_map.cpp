@@ -1,7 +1,5 @@
 #include "valerant/map/run_map.h"
 
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>

@@ -32,6 +32,12 @@ struct PointCloudCollision {
   int run_start = -1;    // first sample of the run of occupied samples that fired
 };
 
+// Whether the cylinder of eq. 6 (without steps) counts a point of height h and this
+// confidence: confident and at body level, eta_low <= h <= eta_high (false for NaN h).
+inline bool countedInBody(double h, float confidence, const CollisionConfig& config) {
+  return confidence >= config.min_confidence && h >= config.height_low && h <= config.height_high;
+}
+
 // count_i of every sample for each body radius in `radii` (normalised, rho for eq. 6):
 // result[r][i]. The points are filtered and indexed once for all radii (the branch
 // check counts at rho and at the prefix clearance); stepped when config.step_height > 0.
