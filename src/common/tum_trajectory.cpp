@@ -22,6 +22,13 @@ void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>&
   writeFileAtomically(path, out.str());
 }
 
+void writeTumTrajectory(const std::string& path, const std::vector<Eigen::Isometry3d>& poses) {
+  std::vector<StampedPose> stamped;
+  stamped.reserve(poses.size());
+  for (size_t i = 0; i < poses.size(); ++i) stamped.push_back({static_cast<double>(i), poses[i]});
+  writeTumTrajectory(path, stamped);
+}
+
 std::vector<StampedPose> readTumTrajectory(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot read trajectory");

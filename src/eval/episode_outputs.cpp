@@ -199,13 +199,14 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
     return std::pair{std::move(written), secondsSince(start)};
   });
   t = Clock::now();
-  std::vector<StampedPose> slam_poses, truth_poses;
-  for (size_t i = 0; i < episode.trajectory().size(); ++i) slam_poses.push_back({double(i), episode.trajectory()[i]});
-  for (size_t i = 0; i < episode.truth().size(); ++i) truth_poses.push_back({double(i), episode.truth()[i].camera_to_world});
-  writeTumTrajectory(out + "/trajectory.txt", slam_poses);
+  writeTumTrajectory(out + "/trajectory.txt", episode.trajectory());
   // A world without ground truth (the learned world from a screenshot) has no true path.
   const bool has_truth = !episode.truth().empty();
-  if (has_truth) writeTumTrajectory(out + "/gt_trajectory.txt", truth_poses);
+  if (has_truth) {
+    std::vector<Eigen::Isometry3d> truth_poses;
+    for (const FrameTruth& t : episode.truth()) truth_poses.push_back(t.camera_to_world);
+    writeTumTrajectory(out + "/gt_trajectory.txt", truth_poses);
+  }
   cv::Mat topdown = drawTopdown(cloud, episode.grid(), episode.trajectory(), episode.history(), episode.failed(),
                                 config.collision, kTopdownPixelsPerCell);
   cv::cvtColor(topdown, topdown, cv::COLOR_RGB2BGR);

@@ -10,15 +10,13 @@
 #include "valerant/map/keyframe_points_file.h"
 
 namespace valerant {
+
+using namespace run_files;
+
 namespace {
 
 namespace fs = std::filesystem;
 
-const char* const kKeyframePoints = "keyframes.pcd";
-const char* const kKeyframePoses = "keyframes.txt";
-const char* const kTrajectory = "trajectory.txt";
-const char* const kConfig = "config.yaml";
-const char* const kReport = "report.json";
 const char* const kSnapshot = "snapshot";
 
 std::string inside(const std::string& dir, const char* name) { return (fs::path(dir) / name).string(); }
@@ -70,6 +68,20 @@ FloorGrid RunMap::floorGrid(double cell_fraction) const {
   return map.floorGrid(anchor_grid, cell_fraction * anchor_grid.cellSize());
 }
 
+void writeKeyframePoses(const std::string& path, const MapFusion& map) {
+  std::vector<Eigen::Isometry3d> poses;
+  for (const auto& keyframe : map.keyframes()) poses.push_back(keyframe->camera_to_map);
+  writeTumTrajectory(path, poses);
+}
+
+nlohmann::json runMapReport(const RunMap& run, size_t config_bytes, size_t points) {
+  return {{"frame", toJson(run.frame)},
+          {"config_bytes", config_bytes},
+          {"keyframes", run.map.keyframes().size()},
+          {"points", points},
+          {"trajectory_poses", run.trajectory.size()}};
+}
+
 nlohmann::json saveRunMap(const std::string& dir, const RunMap& run, bool overwrite) {
   const std::string points_path = inside(dir, kKeyframePoints), poses_path = inside(dir, kKeyframePoses);
   for (const auto& path : {points_path, poses_path}) requireWritable(path, overwrite);
@@ -79,14 +91,8 @@ nlohmann::json saveRunMap(const std::string& dir, const RunMap& run, bool overwr
 
   const auto& keyframes = run.map.keyframes();
   const size_t points = writeKeyframePoints(points_path, keyframes, 0, keyframes.size());
-  std::vector<StampedPose> poses;
-  for (size_t k = 0; k < keyframes.size(); ++k) poses.push_back({static_cast<double>(k), keyframes[k]->camera_to_map});
-  writeTumTrajectory(poses_path, poses);
-  return {{"frame", toJson(run.frame)},
-          {"config_bytes", fs::file_size(config_copy)},
-          {"keyframes", keyframes.size()},
-          {"points", points},
-          {"trajectory_poses", run.trajectory.size()}};
+  writeKeyframePoses(poses_path, run.map);
+  return runMapReport(run, fs::file_size(config_copy), points);
 }
 
 void saveRunConfig(const std::string& dir, const ConfigDocument& config, bool overwrite) {

@@ -41,7 +41,7 @@ bool holds(const std::vector<std::shared_ptr<const FusedKeyframe>>& keyframes, s
 RunSnapshot::RunSnapshot(std::string dir) : dir_(std::move(dir)) {}
 
 void RunSnapshot::write(const RunMap& run, nlohmann::json report) {
-  const std::string config_path = inside(dir_, "config.yaml");
+  const std::string config_path = inside(dir_, run_files::kConfig);
   if (!fs::is_regular_file(config_path))
     throw InputError(config_path, "missing: copy the run's configuration first (saveRunConfig)");
   const std::string snapshot = runSnapshotDir(dir_);
@@ -55,7 +55,7 @@ void RunSnapshot::write(const RunMap& run, nlohmann::json report) {
     std::ostringstream bytes;
     bytes << in.rdbuf();
     if (!in && !in.eof()) throw InputError(config_path, "cannot read");
-    writeFileAtomically(inside(building, "config.yaml"), bytes.str());
+    writeFileAtomically(inside(building, run_files::kConfig), bytes.str());
     // The parts that still hold, linked from the snapshot on disk ...
     size_t written = 0;
     for (const Part& part : parts_) {
@@ -73,27 +73,18 @@ void RunSnapshot::write(const RunMap& run, nlohmann::json report) {
       part.points = writeKeyframePoints(inside(building, part.file), keyframes, written, keyframes.size());
       parts.push_back(std::move(part));
     }
-    std::vector<StampedPose> poses;
-    for (size_t k = 0; k < keyframes.size(); ++k)
-      poses.push_back({static_cast<double>(k), keyframes[k]->camera_to_map});
-    writeTumTrajectory(inside(building, "keyframes.txt"), poses);
-    std::vector<StampedPose> trajectory;
-    for (size_t i = 0; i < run.trajectory.size(); ++i) trajectory.push_back({double(i), run.trajectory[i]});
-    writeTumTrajectory(inside(building, "trajectory.txt"), trajectory);
+    writeKeyframePoses(inside(building, run_files::kKeyframePoses), run.map);
+    writeTumTrajectory(inside(building, run_files::kTrajectory), run.trajectory);
     nlohmann::json point_files = nlohmann::json::array();
     size_t points = 0;
     for (const Part& part : parts) {
       point_files.push_back({{"file", part.file}, {"points", part.points}});
       points += part.points;
     }
-    report["run_map"] = {{"frame", toJson(run.frame)},
-                         {"config_bytes", bytes.str().size()},
-                         {"keyframes", keyframes.size()},
-                         {"points", points},
-                         {"point_files", point_files},
-                         {"trajectory_poses", run.trajectory.size()}};
+    report["run_map"] = runMapReport(run, bytes.str().size(), points);
+    report["run_map"]["point_files"] = point_files;
     report["snapshot"] = true;
-    writeFileAtomically(inside(building, "report.json"), report.dump(2) + '\n');
+    writeFileAtomically(inside(building, run_files::kReport), report.dump(2) + '\n');
   } catch (...) {
     std::error_code ignored;  // the failure itself is what the caller hears about
     fs::remove_all(building, ignored);

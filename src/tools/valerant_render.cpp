@@ -48,7 +48,7 @@ void writePng(const std::string& path, const cv::Mat& rgb_or_depth) {
 nlohmann::json writeRollout(const Rollout& r, const std::string& dir, int every) {
   fs::create_directories(dir + "/rgb");
   fs::create_directories(dir + "/depth");
-  std::vector<StampedPose> poses;
+  std::vector<Eigen::Isometry3d> poses;
   std::ostringstream solid;
   solid << "# frame in_solid floor_z\n";
   int in_solid = 0;
@@ -59,7 +59,7 @@ nlohmann::json writeRollout(const Rollout& r, const std::string& dir, int every)
       writePng(dir + "/rgb/" + name, r.frames[i]);
       writePng(dir + "/depth/" + name, depthToPng16(r.truth[i].depth_m));
     }
-    poses.push_back({static_cast<double>(i), r.truth[i].camera_to_world});
+    poses.push_back(r.truth[i].camera_to_world);
     solid << i << ' ' << r.truth[i].in_solid << ' ' << r.truth[i].floor_z << '\n';
     in_solid += r.truth[i].in_solid;
   }

@@ -82,7 +82,6 @@ nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context
   fs::create_directories(dir + "/depth");
   fs::create_directories(dir + "/confidence");
   std::vector<Eigen::Isometry3d> truth;
-  std::vector<StampedPose> truth_tum, estimate_tum;
   for (const Rollout* r : {&context, &rollout})
     for (const FrameTruth& t : r->truth) {
       Eigen::Isometry3d metres = t.camera_to_world;
@@ -90,10 +89,8 @@ nlohmann::json evaluateCandidate(const std::string& name, const Rollout& context
       truth.push_back(metres);
     }
   const std::vector<Eigen::Isometry3d> estimate = branch.trajectory();
-  for (size_t i = 0; i < estimate.size(); ++i) estimate_tum.push_back({static_cast<double>(i), estimate[i]});
-  for (size_t i = 0; i < truth.size(); ++i) truth_tum.push_back({static_cast<double>(i), truth[i]});
-  writeTumTrajectory(dir + "/trajectory.txt", estimate_tum);
-  writeTumTrajectory(dir + "/gt_trajectory.txt", truth_tum);
+  writeTumTrajectory(dir + "/trajectory.txt", estimate);
+  writeTumTrajectory(dir + "/gt_trajectory.txt", truth);
   writeCloud(dir + "/keyframes.ply", branch.keyframeClouds());
 
   std::vector<cv::Mat> depth, confidence, truth_depth;

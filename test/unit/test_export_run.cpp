@@ -83,9 +83,7 @@ std::string freshDir(const std::string& name) {
 void saveRun(const RunMap& run, const std::string& dir) {
   saveRunConfig(dir, ConfigDocument::load(defaultConfigPath()), false);
   nlohmann::json report = {{"tool", "valerant_explore"}, {"run_map", saveRunMap(dir, run, false)}};
-  std::vector<StampedPose> poses;
-  for (size_t i = 0; i < run.trajectory.size(); ++i) poses.push_back({static_cast<double>(i), run.trajectory[i]});
-  writeTumTrajectory(dir + "/trajectory.txt", poses);
+  writeTumTrajectory(dir + "/trajectory.txt", run.trajectory);
   std::ofstream(dir + "/report.json") << report.dump(2);
 }
 

@@ -35,6 +35,21 @@ struct RunMap {
   FloorGrid floorGrid(double cell_fraction) const;
 };
 
+// The names of a run directory's files (above).
+namespace run_files {
+inline constexpr char kKeyframePoints[] = "keyframes.pcd";
+inline constexpr char kKeyframePoses[] = "keyframes.txt";
+inline constexpr char kTrajectory[] = "trajectory.txt";
+inline constexpr char kConfig[] = "config.yaml";
+inline constexpr char kReport[] = "report.json";
+}  // namespace run_files
+
+// Writes the camera poses of `map`'s keyframes to `path` (keyframes.txt).
+void writeKeyframePoses(const std::string& path, const MapFusion& map);
+// report.json's "run_map" object for `run`, whose config.yaml holds `config_bytes` and
+// whose point files hold `points`.
+nlohmann::json runMapReport(const RunMap& run, size_t config_bytes, size_t points);
+
 // Writes keyframes.pcd and keyframes.txt into `dir` (which must hold config.yaml
 // already: saveRunConfig); returns the "run_map" object for report.json. Never
 // overwrites unless asked.
