@@ -199,7 +199,7 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
     return std::pair{std::move(written), secondsSince(start)};
   });
   t = Clock::now();
-  writeTumTrajectory(out + "/trajectory.txt", episode.trajectory());
+  writeTumTrajectory(out + "/" + run_files::kTrajectory, episode.trajectory());
   // A world without ground truth (the learned world from a screenshot) has no true path.
   const bool has_truth = !episode.truth().empty();
   if (has_truth) {
@@ -254,7 +254,8 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   seconds["exports"] = export_seconds;
   report["exports"] = std::move(written);
   nlohmann::json files = report["exports"]["files"];
-  files.insert(files.end(), {"keyframes.pcd", "keyframes.txt", "config.yaml", "trajectory.txt"});
+  files.insert(files.end(), {run_files::kKeyframePoints, run_files::kKeyframePoses, run_files::kConfig,
+                             run_files::kTrajectory});
   if (has_truth) files.push_back("gt_trajectory.txt");
   files.insert(files.end(), {"topdown.png", "decisions.jsonl", "report.json"});
   if (!view.empty()) files.push_back("view.png");
