@@ -54,7 +54,7 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_EQ(c.policy.budget_steps, 15);
   EXPECT_EQ(c.floor.min_support, 300);
   EXPECT_DOUBLE_EQ(c.floor.min_vertical_alignment, 0.7);
-  EXPECT_DOUBLE_EQ(c.collision.body_radius, 0.21);
+  EXPECT_DOUBLE_EQ(c.collision.body_radius, 0.30);
   EXPECT_DOUBLE_EQ(c.collision.height_low, 0.18);
   EXPECT_DOUBLE_EQ(c.collision.height_high, 1.19);
   EXPECT_DOUBLE_EQ(c.collision.step_height, 0.0);  // [ours], off: the paper's cylinder

@@ -85,6 +85,9 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(paper_row.collision.previous_steps, paper_file.collision.previous_steps);
   EXPECT_EQ(paper_row.collision.prefix_commits, paper_file.collision.prefix_commits);
   EXPECT_EQ(paper_row.collision.step_height, paper_file.collision.step_height);
+  EXPECT_DOUBLE_EQ(paper_row.collision.body_radius, paper_file.collision.body_radius);
+  EXPECT_DOUBLE_EQ(paper_file.collision.body_radius, 0.21);  // the paper's rho
+  EXPECT_DOUBLE_EQ(full.collision.body_radius, 0.30);        // ours (docs/body_radius.md)
   EXPECT_EQ(paper_row.slam.depth_prior, paper_file.slam.depth_prior);
   EXPECT_EQ(paper_file.slam.depth_prior, "none");
   EXPECT_EQ(full.slam.depth_prior, "learned");  // on by default since v9 (docs/depth_prior.md)
