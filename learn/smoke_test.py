@@ -6,7 +6,9 @@ train_depth.py on two tiny synthetic shards of different maps, whose ONNX output
 must load in cv2.dnn and match torch.
 
   smoke_test.py [--xml PATH]   # PATH: JUnit XML for scripts/count_test_results"""
+import contextlib
 import glob
+import io
 import json
 import math
 import os
@@ -29,7 +31,7 @@ from valerant_learn.depth_net import ColumnContext, DepthNet, GlobalContext, cou
 from valerant_learn.floor_prior import floor_log_depth
 from valerant_learn.junit import run_smoke_test
 from valerant_learn.log16 import decode_log16, encode_log16
-from valerant_learn.losses import decoupled_loss, laplace_nll, training_loss
+from valerant_learn.losses import decoupled_loss, gradient_matching_loss, laplace_nll, training_loss
 from valerant_learn.metrics import frame_calibration, frame_metrics
 from valerant_learn.onnx_export import verify_with_opencv
 from valerant_learn.shards import load_shards, write_shard
@@ -193,6 +195,26 @@ class LossTest(unittest.TestCase):
         output[0, 0] = 5.0
         self.assertAlmostEqual(float(decoupled_loss(output, torch.ones(1, 1, 1))), 5 + 19.085537 + 5, places=4)
 
+    def test_hand_worked_gradient_matching(self):
+        depth = torch.ones(1, 2, 2)  # 1 m everywhere: e = mu
+        output = torch.zeros(1, 2, 2, 2)
+        output[0, 0, 0, 1] = 1.0     # e = [[0, 1], [0, 0]]
+        # scale 0: across |1 - 0| and |0 - 0|, mean 0.5; down |0 - 0| and |0 - 1|, mean 0.5: 1.0
+        # scale 1 (every 2nd pixel): one pixel, no neighbours: 0. Mean over the 2 scales: 0.5
+        self.assertAlmostEqual(float(gradient_matching_loss(output, depth, scales=2)), 0.5, places=6)
+        # A prediction off by one global factor has the true shape: no cost.
+        self.assertAlmostEqual(float(gradient_matching_loss(torch.full((1, 2, 2, 2), 0.7), depth, scales=2)), 0.0,
+                               places=6)
+
+    def test_gradient_matching_sky_at_80_m(self):
+        # Row [1 m, sky]: predicting 80 m at the sky pixel and 1 m beside it is exact.
+        depth = torch.tensor([[[1.0, float("nan")]]])
+        output = torch.zeros(1, 2, 1, 2)
+        output[0, 0, 0, 1] = math.log(80.0)
+        self.assertAlmostEqual(float(gradient_matching_loss(output, depth, scales=1)), 0.0, places=5)
+        output[0, 0, 0, 1] = 0.0  # sky predicted at 1 m: the step ln 80 = 4.382027 is missed
+        self.assertAlmostEqual(float(gradient_matching_loss(output, depth, scales=1)), 4.382027, places=5)
+
     def test_unknown_loss(self):
         with self.assertRaises(ValueError) as caught:
             training_loss("l2")
@@ -281,6 +303,16 @@ class WidthMultiplierTest(unittest.TestCase):
         self.assertEqual(tuple(output.shape), (2, 2, HEIGHT, WIDTH))
         self.assertEqual(net.stem[0].out_channels, 24)
         self.assertGreater(count_parameters(net), count_parameters(DepthNet(HEIGHT, WIDTH, column_context=True)))
+
+    def test_deep_blocks_join_the_two_coarsest_stages(self):
+        plain, deep = DepthNet(HEIGHT, WIDTH), DepthNet(HEIGHT, WIDTH, deep_blocks=2)
+        self.assertEqual([len(stage) for stage in plain.stages], [1, 2, 3, 5, 3])
+        self.assertEqual([len(stage) for stage in deep.stages], [1, 2, 3, 7, 5])
+        with torch.no_grad():
+            self.assertEqual(tuple(deep.eval()(torch.rand(1, 3, HEIGHT, WIDTH)).shape), (1, 2, HEIGHT, WIDTH))
+        for bad in (-1, 1.5):
+            with self.assertRaisesRegex(ValueError, "whole number of deep blocks"):
+                DepthNet(HEIGHT, WIDTH, deep_blocks=bad)
 
     def test_bad_multiplier(self):
         for multiplier in (0.0, -1.0, float("nan")):
@@ -503,6 +535,14 @@ class TrainDepthTest(unittest.TestCase):
                                                  "--select-maps", TRAIN_MAP])
         self.assertIn("nothing is left to train on", message)
 
+    def test_rejects_bad_net_and_loss_options(self):
+        for option, value in (("--gradient-weight", "-0.5"), ("--gradient-weight", "nan"), ("--deep-blocks", "-1")):
+            with self.assertRaises(SystemExit) as caught, contextlib.redirect_stderr(io.StringIO()) as stderr:
+                train_depth.parse_args(["--train", TRAIN_SHARD, "--val", VAL_SHARD, "--out", WORK, "--steps", "1",
+                                        option, value])
+            self.assertEqual(caught.exception.code, 2)
+            self.assertIn(option + " must be at least 0", stderr.getvalue())
+
     def test_end_to_end_on_cpu(self):
         metrics = self.train_and_check("run", [])
         self.assertEqual((metrics["picked_by"], metrics["loss"], metrics["select"]), ("val", "laplace", None))
@@ -520,12 +560,15 @@ class TrainDepthTest(unittest.TestCase):
 
     def test_end_to_end_column_context(self):
         metrics = self.train_and_check("run_v7", ["--loss", "decoupled", "--column-context", "--ema", "0.9",
-                                                  "--select-maps", SELECT_MAP, "--width-multiplier", "1.25"],
+                                                  "--select-maps", SELECT_MAP, "--width-multiplier", "1.25",
+                                                  "--deep-blocks", "1", "--gradient-weight", "0.5"],
                                        [SELECT_SHARD])
         self.assertEqual((metrics["column_context"], metrics["global_context"]), (True, False))
-        self.assertEqual(metrics["width_multiplier"], 1.25)
+        self.assertEqual((metrics["width_multiplier"], metrics["deep_blocks"], metrics["gradient_weight"]),
+                         (1.25, 1, 0.5))
         self.assertEqual(metrics["parameters"],
-                         count_parameters(DepthNet(HEIGHT, WIDTH, column_context=True, width_multiplier=1.25)))
+                         count_parameters(DepthNet(HEIGHT, WIDTH, column_context=True, width_multiplier=1.25,
+                                                   deep_blocks=1)))
 
     def test_end_to_end_keep_last(self):
         # The end's averaged weights are kept though the selection's best may lie earlier.
@@ -570,7 +613,8 @@ class TrainDepthTest(unittest.TestCase):
         properties = {entry.key: entry.value for entry in exported.metadata_props}
         self.assertEqual((properties["keep"], properties["kept_step"]), (metrics["keep"], str(metrics["kept_step"])))
         model = DepthNet(checkpoint["height"], checkpoint["width"], checkpoint["floor_prior"],
-                         checkpoint["global_context"], checkpoint["column_context"], checkpoint["width_multiplier"])
+                         checkpoint["global_context"], checkpoint["column_context"], checkpoint["width_multiplier"],
+                         checkpoint["deep_blocks"])
         model.load_state_dict(checkpoint["state_dict"])
         rgb = train_depth.as_input(torch.from_numpy(load_shards([VAL_SHARD])["rgb"][:3])).contiguous().numpy()
         report = verify_with_opencv(os.path.join(out, "depth_prior.onnx"), model, rgb)

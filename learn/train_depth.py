@@ -26,7 +26,7 @@ import torch
 
 from valerant_learn.augment import augment
 from valerant_learn.depth_net import DepthNet, count_macs, count_parameters
-from valerant_learn.losses import LOSSES, SKY_DEPTH_M, training_loss
+from valerant_learn.losses import LOSSES, SKY_DEPTH_M, gradient_matching_loss, training_loss
 from valerant_learn.metrics import METRIC_MAX_M, METRIC_MIN_M, average, frame_calibration, frame_metrics, summarize
 from valerant_learn.onnx_export import FORMAT_VERSION, export_onnx
 from valerant_learn.plots import plot_curves, plot_samples
@@ -78,6 +78,12 @@ def parse_args(argv):
                         help="every encoder and decoder width times M, rounded to a multiple of 8 "
                              "(valerant_learn/depth_net.py, scaled_channels); the time a frame grows about "
                              "as M squared")
+    parser.add_argument("--deep-blocks", type=int, default=0, metavar="N",
+                        help="N more stride-1 blocks at the end of the stride-16 and of the stride-32 encoder "
+                             "stage each (valerant_learn/depth_net.py)")
+    parser.add_argument("--gradient-weight", type=float, default=0.0, metavar="W",
+                        help="add W times the multi-scale gradient-matching term of the ln-depth error "
+                             "(valerant_learn/losses.py, gradient_matching_loss); 0: none")
     parser.add_argument("--ema", type=float, metavar="DECAY",
                         help="validate and keep an exponential moving average of the weights "
                              "(valerant_learn/weight_average.py), e.g. 0.999")
@@ -96,6 +102,10 @@ def parse_args(argv):
         parser.error("--minutes must be positive")
     if not args.lr > 0:
         parser.error("--lr must be positive")
+    if args.deep_blocks < 0:
+        parser.error("--deep-blocks must be at least 0")
+    if not args.gradient_weight >= 0:
+        parser.error("--gradient-weight must be at least 0, got %r" % args.gradient_weight)
     if args.ema is not None and not 0 < args.ema < 1:
         parser.error("--ema must be between 0 and 1, got %r" % args.ema)
     if args.select_maps is not None:
@@ -205,7 +215,7 @@ def save_checkpoint(model, state, step, keep, path):
                 "floor_prior": floor_prior_camera(model),
                 "global_context": model.global_context is not None,
                 "column_context": model.column_context is not None,
-                "width_multiplier": model.width_multiplier}, path)
+                "width_multiplier": model.width_multiplier, "deep_blocks": model.deep_blocks}, path)
 
 
 def train(model, train_frames, val_frames, select_frames, args, device, out_dir):
@@ -274,6 +284,8 @@ def train(model, train_frames, val_frames, select_frames, args, device, out_dir)
             with torch.autocast(device_type=device.type, dtype=torch.bfloat16, enabled=device.type == "cuda"):
                 output = model(rgb.contiguous(memory_format=torch.channels_last))
             loss = loss_function(output, depth)
+            if args.gradient_weight > 0:
+                loss = loss + args.gradient_weight * gradient_matching_loss(output, depth)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             torch.nn.utils.clip_grad_norm_(model.parameters(), GRAD_CLIP_NORM)
@@ -326,7 +338,7 @@ def main(argv=None):
         train_data, val_data, select_data = load_split(args)
         meta = train_data["meta"]
         model = DepthNet(meta["height"], meta["width"], meta if args.floor_prior else None, args.global_context,
-                         args.column_context, args.width_multiplier)
+                         args.column_context, args.width_multiplier, args.deep_blocks)
     except ValueError as error:
         sys.exit("train_depth: error: %s" % error)
     os.makedirs(args.out, exist_ok=True)
@@ -364,7 +376,8 @@ def main(argv=None):
         "eye_height_m": meta["eye_height_m"], "floor_prior": "yes" if args.floor_prior else "no",
         "global_context": "yes" if args.global_context else "no",
         "column_context": "yes" if args.column_context else "no", "loss": args.loss,
-        "width_multiplier": args.width_multiplier,
+        "width_multiplier": args.width_multiplier, "deep_blocks": args.deep_blocks,
+        "gradient_weight": args.gradient_weight,
         "keep": args.keep, "kept_step": kept_step,
         "train_maps": ",".join(meta["maps"]), "val_abs_rel": val_summary["all"]["abs_rel"]})
     print("exported %s; cv2.dnn vs torch max |diff| ln depth %.2e, ln b %.2e"
@@ -381,6 +394,8 @@ def main(argv=None):
         "global_context": args.global_context,
         "column_context": args.column_context,
         "width_multiplier": args.width_multiplier,
+        "deep_blocks": args.deep_blocks,
+        "gradient_weight": args.gradient_weight,
         "ema": args.ema,
         "sky_depth_m": SKY_DEPTH_M,
         "metric_depth_range_m": [METRIC_MIN_M, METRIC_MAX_M],

@@ -14,7 +14,9 @@ With a floor prior (floor_prior.py) the depth head predicts ln depth relative to
 the floor-plane depth of each row, added inside the net: the output is the same.
 With global context (GlobalContext) the stride-32 features also see a summary of
 the whole frame before decoding; with column context (ColumnContext) the stride-8
-decoder features see a summary of their image column."""
+decoder features see a summary of their image column. With deep_blocks N, each of the
+two coarsest encoder stages (strides 16 and 32) ends with N more stride-1 blocks: depth
+where a frame is 48 and 12 positions, which costs parameters but few multiply-adds."""
 import copy
 import math
 
@@ -210,17 +212,21 @@ class DepthNet(nn.Module):
     relative to. global_context: a GlobalContext after the encoder. column_context:
     a ColumnContext after decoder stage COLUMN_CONTEXT_STAGE. width_multiplier:
     every encoder and decoder width times this (scaled_channels); the contexts'
-    summaries keep theirs."""
+    summaries keep theirs. deep_blocks: stride-1 blocks added at the end of the
+    stride-16 and the stride-32 stage each (0: ENCODER_STAGES as listed)."""
 
     def __init__(self, height=96, width=128, floor_prior=None, global_context=False, column_context=False,
-                 width_multiplier=1.0):
+                 width_multiplier=1.0, deep_blocks=0):
         super().__init__()
         if height % 32 or width % 32:
             raise ValueError("DepthNet needs a size divisible by 32, got %dx%d" % (width, height))
         if not width_multiplier > 0:
             raise ValueError("DepthNet needs a positive width multiplier, got %r" % (width_multiplier,))
+        if not (isinstance(deep_blocks, int) and deep_blocks >= 0):
+            raise ValueError("DepthNet needs a whole number of deep blocks, at least 0, got %r" % (deep_blocks,))
         self.height, self.width = height, width
         self.width_multiplier = float(width_multiplier)
+        self.deep_blocks = deep_blocks
 
         def widen(channels):
             return scaled_channels(channels, self.width_multiplier)
@@ -231,7 +237,10 @@ class DepthNet(nn.Module):
         self.stem = ConvBN(5, widen(STEM_CHANNELS), 3, 2)
         self.stages = nn.ModuleList()
         channels, skips = widen(STEM_CHANNELS), []
-        for stage in ENCODER_STAGES:
+        for index, stage in enumerate(ENCODER_STAGES):
+            if index >= len(ENCODER_STAGES) - 2:  # the stride-16 and stride-32 stages
+                last_channels, _, last_expansion = stage[-1]
+                stage = stage + [(last_channels, 1, last_expansion)] * deep_blocks
             blocks = []
             for cout, stride, expansion in stage:
                 blocks.append(InvertedResidual(channels, widen(cout), stride, expansion))

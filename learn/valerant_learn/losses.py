@@ -8,7 +8,13 @@ decoupled_loss: the depth and its confidence trained apart (run v6). The depth
 learns from |ln error| plus the pixel's AbsRel, which punishes a surface placed too
 far without bound as the benchmark does; the scale head learns the same Laplace NLL
 on the detached error, so ln b keeps its meaning (the scale of the ln-depth error)
-without weighting the depth's gradient."""
+without weighting the depth's gradient.
+
+gradient_matching_loss: an extra term for the depth (train_depth.py --gradient-weight):
+the ln-depth error's differences between neighbouring pixels, at several scales, as in
+MiDaS's gradient-matching term. A blurred wall edge costs little in the per-pixel
+terms (few pixels) but a whole edge here, so it asks for sharp edges and for a wall to
+stand out of the floor it meets."""
 import torch
 
 # Sky has no depth; it is trained as this far away, beyond the arenas' extent, so
@@ -48,6 +54,28 @@ def decoupled_loss(output, depth, sky_depth_m=SKY_DEPTH_M):
     depth_term = error.abs() + torch.where(has_depth, abs_rel, torch.zeros_like(abs_rel))
     scale_term = error.detach().abs() * torch.exp(-log_scale) + log_scale
     return (depth_term + scale_term).mean()
+
+
+# Scales of gradient_matching_loss: every pixel, then every 2nd, 4th and 8th.
+GRADIENT_SCALES = 4
+
+
+def gradient_matching_loss(output, depth, scales=GRADIENT_SCALES, sky_depth_m=SKY_DEPTH_M):
+    """Mean over scales k = 0..scales-1 of the mean |difference| of the ln-depth error
+    e = mu - ln d between horizontal neighbours plus that between vertical neighbours,
+    on the image subsampled to every 2^k-th row and column (sky as sky_depth_m, as in
+    the other losses). 0 where the prediction is the truth up to a constant ln factor
+    (a global scale error): this term judges the shape alone. Same arguments as
+    laplace_nll; computed in float32."""
+    error = output.float()[:, 0] - log_depth_target(depth.float(), sky_depth_m)
+    total = error.new_zeros(())
+    for scale in range(scales):
+        step = 2 ** scale
+        sampled = error[:, ::step, ::step]
+        across = (sampled[:, :, 1:] - sampled[:, :, :-1]).abs().mean() if sampled.shape[2] > 1 else 0.0
+        down = (sampled[:, 1:, :] - sampled[:, :-1, :]).abs().mean() if sampled.shape[1] > 1 else 0.0
+        total = total + across + down
+    return total / scales
 
 
 def training_loss(name):
