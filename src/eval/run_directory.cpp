@@ -8,6 +8,7 @@
 
 #include "valerant/common/error.h"
 #include "valerant/map/run_exports.h"
+#include "valerant/map/run_map.h"
 
 namespace valerant {
 namespace {
@@ -41,15 +42,16 @@ std::string describeState(RunState state) {
 
 std::vector<std::string> runFileNames() {
   std::vector<std::string> names = exportFiles(exportFormats());
-  for (const char* n : {"keyframes.pcd", "keyframes.txt", "config.yaml", "trajectory.txt", "gt_trajectory.txt",
-                        "topdown.png", "view.png", "decisions.jsonl", "report.json", "snapshot"})
+  for (const char* n : {run_files::kKeyframePoints, run_files::kKeyframePoses, run_files::kConfig,
+                        run_files::kTrajectory, "gt_trajectory.txt", "topdown.png", "view.png", "decisions.jsonl",
+                        run_files::kReport, "snapshot"})
     names.push_back(n);
   return names;
 }
 
 RunState runState(const std::string& dir) {
   if (!fs::is_directory(dir)) return RunState::kNone;
-  const fs::path report = fs::path(dir) / "report.json";
+  const fs::path report = fs::path(dir) / run_files::kReport;
   if (fs::is_regular_file(report)) {
     std::ifstream in(report);
     try {
