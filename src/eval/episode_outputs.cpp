@@ -257,7 +257,7 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   files.insert(files.end(), {run_files::kKeyframePoints, run_files::kKeyframePoses, run_files::kConfig,
                              run_files::kTrajectory});
   if (has_truth) files.push_back("gt_trajectory.txt");
-  files.insert(files.end(), {"topdown.png", "decisions.jsonl", "report.json"});
+  files.insert(files.end(), {"topdown.png", "decisions.jsonl", run_files::kReport});
   if (!view.empty()) files.push_back("view.png");
   report["files"] = files;
   report["output_stage_seconds"] = seconds;

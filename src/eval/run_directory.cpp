@@ -79,8 +79,8 @@ void prepareRunDirectory(const std::string& dir, RunStart start) {
       if (state != RunState::kUnfinished)
         throw InputError(dir, state == RunState::kComplete ? "holds a finished run: nothing to resume"
                                                            : "holds no run to resume");
-      if (!fs::is_regular_file(fs::path(dir) / "config.yaml"))
-        throw InputError(dir + "/config.yaml", "missing: the unfinished run cannot be resumed (pass --force)");
+      if (!fs::is_regular_file(fs::path(dir) / run_files::kConfig))
+        throw InputError(dir + "/" + run_files::kConfig, "missing: the unfinished run cannot be resumed (pass --force)");
       removeTemporaryFiles(dir);
       break;
     case RunStart::kForce:
