@@ -83,7 +83,10 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
       for (const auto& step : committed_)
         for (const auto& p : *step) {
           const Eigen::Vector3d x = p.position.cast<double>();
-          if (start.axisDistanceSquared(x) <= radius * radius) continue;  // beside the body already
+          if (start.axisDistanceSquared(x) <= radius * radius) {  // beside the body already
+            v.start_occupied += countedInBody(start.normalisedHeight(x), p.confidence, config_);
+            continue;
+          }
           const bool own = own_floor && std::isfinite(p.h);
           const double h = own ? static_cast<double>(p.h) : start.normalisedHeight(x);
           if (counted(h, p.confidence)) points.push_back({x, h, p.confidence});
@@ -98,6 +101,7 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     const PointCloudCollision pc = pointCloudCollisionFromCounts(counts.front(), config_, rotation_only);
     v.collision_pc = pc.collision;
     v.occupied_max = pc.occupied_max;
+    v.body_counts = counts.front();
     if (pc.collision) unsafeAt(pc.run_start);
     if (config_.prefix_commits) {
       const std::vector<int>& wide = counts.back();

@@ -117,7 +117,7 @@ StepRecord Episode::step() {
   record.step = ++steps_;
   record.checkpoint = world_.checkpoint();
   pipeline_.checkpoint(record.checkpoint);
-  saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_, loop_closure_});
+  saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_, loop_closure_, contact_points_});
   Cell start_cell{-1, -1};
   grid_->cellOf(trajectory_.back().translation(), start_cell);
 
@@ -224,6 +224,8 @@ void Episode::judge(const std::vector<std::string>& names, const std::vector<std
     v.coverage = terms.coverage;
     v.progress = terms.progress;
     v.enters_failed = failed_.enters(terms.cells, start_cell, v.rotation_only);
+    const int contact = config_.collision.turn_contact_points;
+    v.turn_in_contact = v.rotation_only && contact > 0 && contact_points_ >= contact;
     Cell end_cell{-1, -1};
     grid_->cellOf(out.centres.back().back(), end_cell);
     v.goal = goal.goalTerm(start_cell, end_cell);
@@ -324,6 +326,8 @@ void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector
   const size_t fused = fuseKnown(chosen);
   trajectory_.insert(trajectory_.end(), chosen.poses.begin(), chosen.poses.end());
   appendCommittedTruth(truth_, chosen.rollout.truth);
+  const std::vector<int>& counts = chosen.verdict.body_counts;
+  if (!chosen.verdict.rotation_only) contact_points_ = counts.empty() ? 0 : counts.back();
   // Maps the new poses and keyframes into the corrected frame; a closure moves older ones too.
   const bool closed = loop_closure_ && loop_closure_->commit(chosen, committed_steps_ + 1, anchor_kappa_, map_, trajectory_);
   ++committed_steps_;
@@ -348,6 +352,7 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
   trajectory_.resize(s.trajectory_size);
   if (truth_.size() > s.trajectory_size) truth_.resize(s.trajectory_size);
   committed_steps_ = s.committed_steps;
+  contact_points_ = s.contact_points;
   if (loop_closure_) {  // closures made after the checkpoint are undone
     loop_closure_ = s.loop_closure;
     loop_closure_->restoreInto(map_, trajectory_);

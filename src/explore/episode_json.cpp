@@ -7,6 +7,7 @@ namespace valerant {
 nlohmann::json toJson(const BranchVerdict& v) {
   return {{"candidate", v.candidate},     {"rotation_only", v.rotation_only},
           {"collision_pc", v.collision_pc}, {"collision_depth", v.collision_depth},
+          {"turn_in_contact", v.turn_in_contact},
           {"occupied_max", v.occupied_max}, {"min_near_ratio", std::isfinite(v.min_near_ratio) ? v.min_near_ratio : -1.0},
           {"slam_lost", v.slam_lost},       {"floor_unknown", v.floor_unknown},
           {"enters_failed", v.enters_failed}, {"prefix_frames", v.prefix_frames},
@@ -14,6 +15,7 @@ nlohmann::json toJson(const BranchVerdict& v) {
           {"coverage", v.coverage},         {"progress", v.progress},
           {"goal", v.goal},                 {"opening", v.opening},
           {"short_unclear", v.short_unclear},
+          {"body_counts", v.body_counts},   {"start_occupied", v.start_occupied},
           {"score", v.score},               {"admissible", v.admissible},
           {"reason", v.reason}};
 }
@@ -36,6 +38,14 @@ nlohmann::json toJson(const StepRecord& r) {
         highest_floor = std::max(highest_floor, f.floor_z);
       }
       v["truth_in_solid_frames"] = solid;
+      // Frame by frame, beside body_counts: where a graze entered and what followed.
+      std::string camera(c.truth.size(), '0'), hull(c.truth.size(), '0');
+      for (size_t i = 0; i < c.truth.size(); ++i) {
+        if (c.truth[i].in_solid) camera[i] = '1';
+        if (c.truth[i].hull_in_solid) hull[i] = '1';
+      }
+      v["truth_in_solid_mask"] = camera;
+      v["truth_hull_in_solid_mask"] = hull;
       // How far up the true path climbs (game units; a stair is 16, a step at most 18):
       // tells a rejected climb from a rejected wall in the record.
       v["truth_rise_units"] = highest_floor - c.truth.front().floor_z;

@@ -276,8 +276,11 @@ valerant::Verdict toMsg(const BranchVerdict& v, const std::vector<Eigen::Vector3
   msg.rotation_only = v.rotation_only;
   msg.collision_pc = v.collision_pc;
   msg.collision_depth = v.collision_depth;
+  msg.turn_in_contact = v.turn_in_contact;
   msg.occupied_max = static_cast<uint32_t>(v.occupied_max);
   msg.min_near_ratio = v.min_near_ratio;
+  msg.body_counts.assign(v.body_counts.begin(), v.body_counts.end());
+  msg.start_occupied = static_cast<uint32_t>(std::max(0, v.start_occupied));
   msg.slam_lost = v.slam_lost;
   msg.floor_unknown = v.floor_unknown;
   msg.enters_failed = v.enters_failed;
@@ -302,8 +305,11 @@ BranchVerdict fromMsg(const valerant::Verdict& msg) {
   v.rotation_only = msg.rotation_only;
   v.collision_pc = msg.collision_pc;
   v.collision_depth = msg.collision_depth;
+  v.turn_in_contact = msg.turn_in_contact;
   v.occupied_max = static_cast<int>(msg.occupied_max);
   v.min_near_ratio = msg.min_near_ratio;
+  v.body_counts.assign(msg.body_counts.begin(), msg.body_counts.end());
+  v.start_occupied = static_cast<int>(msg.start_occupied);
   v.slam_lost = msg.slam_lost;
   v.floor_unknown = msg.floor_unknown;
   v.enters_failed = msg.enters_failed;

@@ -199,7 +199,10 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   v.rotation_only = true;
   v.collision_pc = true;
   v.collision_depth = false;
+  v.turn_in_contact = true;
   v.occupied_max = 12;
+  v.body_counts = {0, 3, 12, 7};
+  v.start_occupied = 44;
   v.min_near_ratio = 0.1;
   v.slam_lost = true;
   v.floor_unknown = true;
@@ -220,6 +223,9 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   EXPECT_EQ(back.collision_pc, v.collision_pc);
   EXPECT_EQ(back.collision_depth, v.collision_depth);
   EXPECT_EQ(back.occupied_max, v.occupied_max);
+  EXPECT_EQ(back.turn_in_contact, v.turn_in_contact);
+  EXPECT_EQ(back.body_counts, v.body_counts);
+  EXPECT_EQ(back.start_occupied, v.start_occupied);
   EXPECT_EQ(back.min_near_ratio, v.min_near_ratio);
   EXPECT_EQ(back.slam_lost, v.slam_lost);
   EXPECT_EQ(back.floor_unknown, v.floor_unknown);

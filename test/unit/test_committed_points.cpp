@@ -88,10 +88,25 @@ TEST(CommittedPoints, RotationsStayExempt) { EXPECT_FALSE(walk(Config(), wall(0.
 // Standing beside a wall: points within the body radius at the start (z = -0.05 ..
 // 0.05: at most sqrt(0.08^2 + 0.05^2) = 0.094 <= 0.105 from the start axis) are left
 // out, though the sample at z = 0.1 would otherwise count them (distance 0.094 again).
+// start_occupied records them: z = -0.05 .. 0.05 every 0.01 is 11 values x 4 rows = 44
+// points, all within 0.094 of the start axis; body_counts has one 0 per frame.
 TEST(CommittedPoints, PointsBesideTheStartAreLeftOut) {
   const BranchVerdict v = walk(Config(), wall(-0.05, 0.05), false);
   EXPECT_FALSE(v.collision_pc);
   EXPECT_EQ(v.occupied_max, 0);
+  EXPECT_EQ(v.start_occupied, 44);
+  EXPECT_EQ(v.body_counts, std::vector<int>(10, 0));
+  // A wall ahead is not beside the start.
+  EXPECT_EQ(walk(Config(), wall(0.3, 0.9), false).start_occupied, 0);
+}
+
+// body_counts frame by frame for the wall from z = 0.3 to 0.9: at z_i the points with
+// |z - z_i| <= 0.068 count, 4 rows each. z = 0 .. 0.2: none (the wall is 0.1 or more
+// ahead); z = 0.3: 0.30 .. 0.36, 7 values = 28; z = 0.4 .. 0.8: 13 values = 52;
+// z = 0.9: 0.84 .. 0.90, 7 values = 28.
+TEST(CommittedPoints, BodyCountsFrameByFrame) {
+  const BranchVerdict v = walk(Config(), wall(0.3, 0.9), false);
+  EXPECT_EQ(v.body_counts, (std::vector<int>{0, 0, 0, 28, 52, 52, 52, 52, 52, 28}));
 }
 
 TEST(CommittedPoints, KeepsOnlyConfidentKeyframePoints) {

@@ -195,3 +195,44 @@ TEST(Episode, ADeadEndAheadCommitsAShortTranslation) {
     }
   }
 }
+
+// [ours] collision.turn_contact_points = 1: a body 3 eye heights wide, so each walk
+// ends with points in its cylinder, and eq. 6's thresholds and eq. 7 out of reach, so
+// none is rejected for them; the forward policy commits uw while it is admissible.
+// A turn judged after a committed translation that ended in contact is inadmissible;
+// before any translation (step 1) it is not, and with the option off never.
+TEST(Episode, TurnsWhereTheLastTranslationEndedInContactAreInadmissible) {
+  VALERANT_REQUIRE_OPENARENA();
+  auto run = [](int contact_points) {
+    Config config = smallConfig(3);
+    config.policy.kind = "forward";
+    config.collision.body_radius = 3.0;
+    config.collision.n_occ = config.collision.n_occ_immediate = 10000000;
+    config.collision.depth_enabled = false;
+    config.collision.turn_contact_points = contact_points;
+    auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+    quake3::Quake3World world(map, config);
+    Episode episode(world, config);
+    episode.runUntilDone(nullptr);
+    return episode.history();
+  };
+  const std::vector<StepRecord> on = run(1);
+  int contact = 0, judged_in_contact = 0;
+  for (const StepRecord& r : on) {
+    for (const CandidateRecord& c : r.candidates) {
+      if (!c.verdict.rotation_only) continue;
+      EXPECT_EQ(c.verdict.turn_in_contact, contact >= 1) << "step " << r.step << " " << c.verdict.candidate;
+      if (c.verdict.turn_in_contact) {
+        ++judged_in_contact;
+        EXPECT_FALSE(c.verdict.admissible);
+        EXPECT_EQ(c.verdict.reason, "turn where the last translation ended in contact");
+      }
+    }
+    ASSERT_GE(r.chosen, 0);
+    const BranchVerdict& chosen = r.candidates[r.chosen].verdict;
+    if (!chosen.rotation_only) contact = chosen.body_counts.back();
+  }
+  EXPECT_GT(judged_in_contact, 0);
+  for (const StepRecord& r : run(0))
+    for (const CandidateRecord& c : r.candidates) EXPECT_FALSE(c.verdict.turn_in_contact);
+}

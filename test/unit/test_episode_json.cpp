@@ -32,6 +32,9 @@ TEST(EpisodeJson, CandidateTruthCountsInSolidFramesAndTheRise) {
   EXPECT_DOUBLE_EQ(j["verdicts"][0]["truth_rise_units"].get<double>(), 32.0);
   EXPECT_DOUBLE_EQ(j["verdicts"][1]["truth_rise_units"].get<double>(), 0.0);
   EXPECT_EQ(j["committed_in_solid_frames"], 1);
+  // Frame by frame: the camera in solid at the third frame only; the hull never.
+  EXPECT_EQ(j["verdicts"][0]["truth_in_solid_mask"], "0010");
+  EXPECT_EQ(j["verdicts"][0]["truth_hull_in_solid_mask"], "0000");
   // Without ground truth (a learned world): neither field.
   record.candidates[1].truth.clear();
   EXPECT_FALSE(toJson(record)["verdicts"][1].contains("truth_rise_units"));

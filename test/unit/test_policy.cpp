@@ -96,6 +96,11 @@ TEST(Policy, ArgmaxOverAdmissibleWithDeterministicTies) {
   EXPECT_EQ(selectBranch(v, config), -1);
   EXPECT_EQ(v[3].reason, "enters failed region");
   EXPECT_EQ(v[4].reason, "slam lost");
+  // A turn where the last translation ended in contact ([ours], collision.turn_contact_points).
+  v[4].slam_lost = false;
+  v[4].turn_in_contact = true;
+  EXPECT_EQ(selectBranch(v, config), -1);
+  EXPECT_EQ(v[4].reason, "turn where the last translation ended in contact");
 }
 
 TEST(Policy, MotionBeyondMaxProgressIsInadmissible) {

@@ -135,6 +135,11 @@ struct CollisionConfig {
   int n_occ = 30;
   int n_occ_consecutive = 2;
   int n_occ_immediate = 300;
+  // [ours] > 0: a turn in place is inadmissible while the camera stands where the last
+  // committed translation ended with this many points in eq. 6's body cylinder at its
+  // last frame (episode.h, docs/inside_brush.md): such a graze can leave the camera
+  // inside the brush, and eq. 6 exempts the turns that follow. 0 = off (the paper).
+  int turn_contact_points = 0;
   double center_fraction = 1.0 / 3.0;
   double d_near = 0.455;
   double s_min_coefficient = 0.085;

@@ -2,6 +2,7 @@
 // Everything the policy knows about one candidate at one step: the collision tests,
 // the score terms and why it was rejected. Mirrors msg/BranchVerdict.msg.
 #include <string>
+#include <vector>
 
 namespace valerant {
 
@@ -10,8 +11,17 @@ struct BranchVerdict {
   bool rotation_only = false;
   bool collision_pc = false;
   bool collision_depth = false;
+  // [ours] A turn in place where the last committed translation ended in contact
+  // (collision.turn_contact_points, episode.h): the camera may stand inside a brush.
+  bool turn_in_contact = false;
   int occupied_max = 0;
   double min_near_ratio = 0;
+  // [ours] Diagnostics of eq. 6 (docs/inside_brush.md): count_i at rho for every frame
+  // (empty for a branch without a known floor), so a graze can be read back from the
+  // record; and the committed points already inside the body cylinder at the start,
+  // which eq. 6 leaves out (branch_check.h).
+  std::vector<int> body_counts;
+  int start_occupied = 0;
   bool slam_lost = false;
   bool floor_unknown = false;  // a translation judged without any reliable floor
   bool enters_failed = false;

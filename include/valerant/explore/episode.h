@@ -12,6 +12,10 @@
 // With policy.goal_move, every step also judges the move along the path to the nearest
 // frontier ([ours], goal_move.h).
 // Every candidate also gets the whole-level terms G and O (docs/whole_level.md).
+// [ours] With collision.turn_contact_points, a turn in place is inadmissible while the
+// camera stands where the last committed translation ended with that many points in
+// eq. 6's body cylinder: a graze can leave the camera inside the brush (seeing out
+// through its back faces), and eq. 6 exempts the turns (docs/inside_brush.md).
 // The same step code runs with in-process components (valerant_explore) and with the
 // ROS graph's proxies (the explorer node): one code path, the same decisions.
 #include <atomic>
@@ -103,6 +107,7 @@ class Episode {
     size_t map_marker, trajectory_size;
     int committed_steps;
     std::optional<LoopClosure> loop_closure;
+    int contact_points;
   };
   // Uses `pipeline` and `selector` when given, else the owned ones.
   Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline, std::unique_ptr<BranchSelector> own_selector,
@@ -164,6 +169,10 @@ class Episode {
   std::vector<StepRecord> history_;
   std::optional<LoopClosure> loop_closure_;  // map and trajectory are in its corrected frame
   int committed_steps_ = 0, steps_ = 0;
+  // [ours] Eq. 6's count at the last frame of the last committed translation: the
+  // camera still stands there through the turns in place that follow, which
+  // collision.turn_contact_points holds to it (docs/inside_brush.md).
+  int contact_points_ = 0;
 };
 
 }  // namespace valerant
