@@ -328,6 +328,9 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.number("checkpoints_kept", d.checkpoints_kept, 1, 1000);
   s.number("max_rewinds", d.max_rewinds, 0, 1000);
   s.number("anchor_free_cells", d.anchor_free_cells, 0, 64);
+  s.number("stagnant_steps", d.stagnant_steps, 0, 100000);
+  s.number("stagnant_cells", d.stagnant_cells, 1, 100000);
+  s.number("drop_height", d.drop_height, 0.0, 100.0);
   s.finish();
 }
 

@@ -144,7 +144,7 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
       if (c.truth.empty()) continue;
       bool enters_solid = false;
       for (const auto& f : c.truth) enters_solid |= f.in_solid;
-      const bool predicted = c.verdict.collision_pc || c.verdict.collision_depth || c.verdict.turn_in_contact;
+      const bool predicted = c.verdict.predictsCollision();
       ++t.verdicts;
       t.truly_colliding += enters_solid;
       t.predicted_colliding += predicted;

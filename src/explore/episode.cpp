@@ -168,17 +168,27 @@ StepRecord Episode::step() {
 
   std::set<Cell> cells;
   bool rotation_only = false;
+  PocketSignals signals;
   if (record.chosen >= 0) {
     rotation_only = verdicts[record.chosen].rotation_only;
     for (const auto& c : centres[record.chosen]) {
       Cell cell;
       if (grid_->cellOf(c, cell)) cells.insert(cell);
     }
+    const size_t start_frame = trajectory_.size() - 1, observed_before = grid_->observedCells();
     const auto t = std::chrono::steady_clock::now();
     commit(results[record.chosen], centres[record.chosen]);
     record.seconds.fusion += secondsSince(t);
+    // After the commit, in its grid: a first reliable floor re-anchors the grid and a
+    // loop closure corrects the poses, the start's too.
+    signals.new_floor_cells = static_cast<int>(std::max(grid_->observedCells(), observed_before) - observed_before);
+    const double fall = grid_->heightOf(trajectory_[start_frame].translation()) -
+                        grid_->heightOf(trajectory_.back().translation());
+    signals.drop = !rotation_only && fall >= config_.dead_pocket.drop_height;
   }
-  release(rewinder_.recordStep(record.checkpoint, start_cell, record.chosen >= 0, rotation_only, cells));
+  record.new_floor_cells = signals.new_floor_cells;
+  record.drop = signals.drop;
+  release(rewinder_.recordStep(record.checkpoint, start_cell, record.chosen >= 0, rotation_only, cells, signals));
   if (const auto decision = rewinder_.check()) rewind(*decision, record);
   stuck_ = record.chosen < 0 && !record.rewind && !rewinder_.canRewindLater();
   record.map_keyframes = map_.marker();
@@ -359,6 +369,7 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
   }
   failed_.add(decision.failed_cells);
   record.rewind = true;
+  record.rewind_stagnant = decision.stagnant;
   record.rewind_to = decision.checkpoint;
   record.discarded_steps = decision.discarded_steps;
   release(rewinder_.apply(decision));

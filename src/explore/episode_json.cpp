@@ -60,8 +60,11 @@ nlohmann::json toJson(const StepRecord& r) {
           {"verdicts", verdicts},
           {"committed_in_solid_frames", in_solid_frames},
           {"rewind", r.rewind},
+          {"rewind_stagnant", r.rewind_stagnant},
           {"rewind_to", r.rewind_to},
           {"discarded_steps", r.discarded_steps},
+          {"new_floor_cells", r.new_floor_cells},
+          {"drop", r.drop},
           {"seconds", toJson(r.seconds)},
           {"wall_seconds", r.wall_seconds}};
 }

@@ -5,10 +5,14 @@
 namespace valerant {
 
 std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Cell& start_cell, bool committed,
-                                                   bool rotation_only, const std::set<Cell>& cells) {
+                                                   bool rotation_only, const std::set<Cell>& cells,
+                                                   const PocketSignals& signals) {
   const bool translational = committed && !rotation_only;
   stalled_ = translational ? 0 : stalled_ + 1;
-  steps_.push_back({checkpoint, start_cell, translational, committed ? cells : std::set<Cell>{}});
+  if (config_.stagnant_steps > 0)
+    stagnant_ = signals.new_floor_cells >= config_.stagnant_cells ? 0 : stagnant_ + 1;
+  const bool drop = translational && signals.drop && config_.stagnant_steps > 0;
+  steps_.push_back({checkpoint, start_cell, translational, translational, drop, committed ? cells : std::set<Cell>{}});
   std::vector<uint64_t> released;
   if (!translational) released.push_back(checkpoint);
   if (!rewindsLeft()) {  // no rewind can follow: nothing to keep
@@ -20,30 +24,58 @@ std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Ce
   int anchors = 0;
   size_t keep_from = steps_.size();
   for (size_t i = steps_.size(); i-- > 0;) {
-    if (steps_[i].translational && ++anchors > config_.checkpoints_kept) break;
+    if (steps_[i].held && ++anchors > config_.checkpoints_kept) break;
     keep_from = i;
   }
+  // ... or from the latest drop anchor, when it lies further back: the anchors between
+  // it and the recent ones are released, their steps (cells for F) kept.
+  size_t drop_at = steps_.size();
+  for (size_t i = steps_.size(); i-- > 0;)
+    if (steps_[i].drop && steps_[i].held) {
+      drop_at = i;
+      break;
+    }
+  if (drop_at < keep_from) {
+    for (size_t i = drop_at + 1; i < keep_from; ++i)
+      if (steps_[i].held) {
+        released.push_back(steps_[i].checkpoint);
+        steps_[i].held = false;
+      }
+    keep_from = drop_at;
+  }
   for (size_t i = 0; i < keep_from; ++i)
-    if (steps_[i].translational) released.push_back(steps_[i].checkpoint);
+    if (steps_[i].held) released.push_back(steps_[i].checkpoint);
   steps_.erase(steps_.begin(), steps_.begin() + keep_from);
   return released;
 }
 
 void RewindController::releaseAll(std::vector<uint64_t>& released) {
   for (const Step& s : steps_)
-    if (s.translational) released.push_back(s.checkpoint);
+    if (s.held) released.push_back(s.checkpoint);
   steps_.clear();
 }
 
 std::optional<RewindDecision> RewindController::check() {
-  if (!rewindsLeft() || stalled_ < config_.rotation_only_steps) return std::nullopt;
-  // The most recent anchor: the last translational step.
-  auto anchor = std::find_if(steps_.rbegin(), steps_.rend(), [](const Step& s) { return s.translational; });
+  if (!rewindsLeft()) return std::nullopt;
+  const bool rotations = stalled_ >= config_.rotation_only_steps;
+  const bool stagnant = config_.stagnant_steps > 0 && stagnant_ >= config_.stagnant_steps;
+  if (!rotations && !stagnant) return std::nullopt;
+  // The most recent anchor: the last translational step, whose checkpoint is always held.
+  auto anchor = std::find_if(steps_.rbegin(), steps_.rend(), [](const Step& s) { return s.held; });
   if (anchor == steps_.rend()) return std::nullopt;
+  if (!rotations) {  // a stagnant pocket: back over the latest drop, where one is held
+    const auto drop = std::find_if(steps_.rbegin(), steps_.rend(), [](const Step& s) { return s.held && s.drop; });
+    if (drop != steps_.rend()) anchor = drop;
+  }
+  RewindDecision d = rewindTo(anchor.base() - 1);
+  d.stagnant = !rotations;
+  return d;
+}
+
+RewindDecision RewindController::rewindTo(std::deque<Step>::const_iterator anchor) const {
   RewindDecision d;
-  const auto first = anchor.base() - 1;  // forward iterator to the anchor step
-  d.checkpoint = first->checkpoint;
-  for (auto it = first; it != steps_.end(); ++it) {
+  d.checkpoint = anchor->checkpoint;
+  for (auto it = anchor; it != steps_.end(); ++it) {
     d.failed_cells.insert(it->cells.begin(), it->cells.end());
     ++d.discarded_steps;
   }
@@ -51,32 +83,33 @@ std::optional<RewindDecision> RewindController::check() {
   // them, so marking them would close the routes the rewind is for.
   const int r = config_.anchor_free_cells;
   for (int dx = -r; dx <= r; ++dx)
-    for (int dy = -r; dy <= r; ++dy) d.failed_cells.erase({first->start_cell.first + dx, first->start_cell.second + dy});
+    for (int dy = -r; dy <= r; ++dy) d.failed_cells.erase({anchor->start_cell.first + dx, anchor->start_cell.second + dy});
   return d;
 }
 
 std::vector<uint64_t> RewindController::apply(const RewindDecision& decision) {
   std::vector<uint64_t> released;
   auto first = std::find_if(steps_.begin(), steps_.end(),
-                            [&](const Step& s) { return s.checkpoint == decision.checkpoint; });
+                            [&](const Step& s) { return s.held && s.checkpoint == decision.checkpoint; });
   // The anchor's own checkpoint is consumed too: the next rewind reaches further back.
   for (auto it = first; it != steps_.end(); ++it)
-    if (it->translational) released.push_back(it->checkpoint);
+    if (it->held) released.push_back(it->checkpoint);
   steps_.erase(first, steps_.end());
   stalled_ = 0;
+  stagnant_ = 0;
   ++rewinds_;
   if (!rewindsLeft()) releaseAll(released);
   return released;
 }
 
 bool RewindController::canRewindLater() const {
-  return rewindsLeft() && std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.translational; });
+  return rewindsLeft() && std::any_of(steps_.begin(), steps_.end(), [](const Step& s) { return s.held; });
 }
 
 std::vector<uint64_t> RewindController::retained() const {
   std::vector<uint64_t> ids;
   for (const auto& s : steps_)
-    if (s.translational) ids.push_back(s.checkpoint);
+    if (s.held) ids.push_back(s.checkpoint);
   return ids;
 }
 

@@ -42,7 +42,7 @@ cv::Mat drawTopdown(const std::vector<FusedPoint>& points, const CoverageGrid& g
     for (size_t i = 0; i < step.candidates.size(); ++i) {
       const CandidateRecord& c = step.candidates[i];
       cv::Scalar colour(80, 200, 80);
-      if (c.verdict.collision_pc || c.verdict.collision_depth || c.verdict.turn_in_contact) colour = cv::Scalar(230, 60, 60);
+      if (c.verdict.predictsCollision()) colour = cv::Scalar(230, 60, 60);
       else if (c.verdict.enters_failed) colour = cv::Scalar(240, 150, 40);
       else if (c.verdict.slam_lost) colour = cv::Scalar(128, 128, 128);
       for (size_t k = 1; k < c.centres.size(); ++k) {

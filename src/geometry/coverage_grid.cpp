@@ -69,7 +69,9 @@ bool CoverageGrid::seenWalkable(const Cell& c) const {
 
 void CoverageGrid::markObservedFloor(const Eigen::Vector3d& point) {
   Cell c;
-  if (cellOf(point, c)) observed_[index(c)] = 1;
+  if (!cellOf(point, c) || observed_[index(c)]) return;
+  observed_[index(c)] = 1;
+  ++observed_cells_;
 }
 
 void CoverageGrid::markObstaclePoint(const Eigen::Vector3d& point) {

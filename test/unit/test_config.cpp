@@ -70,6 +70,9 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_EQ(c.dead_pocket.checkpoints_kept, 3);
   EXPECT_EQ(c.dead_pocket.max_rewinds, 2);
   EXPECT_EQ(c.dead_pocket.anchor_free_cells, 0);
+  EXPECT_EQ(c.dead_pocket.stagnant_steps, 0);  // [ours], off: only the paper's rotations declare a dead pocket
+  EXPECT_EQ(c.dead_pocket.stagnant_cells, 5);
+  EXPECT_DOUBLE_EQ(c.dead_pocket.drop_height, 0.36);
   EXPECT_EQ(c.world.width, 320);
   EXPECT_EQ(c.world.height, 240);
   EXPECT_DOUBLE_EQ(c.world.d_fwd_units, 256);

@@ -228,11 +228,38 @@ TEST(Episode, TurnsWhereTheLastTranslationEndedInContactAreInadmissible) {
         EXPECT_EQ(c.verdict.reason, "turn where the last translation ended in contact");
       }
     }
-    ASSERT_GE(r.chosen, 0);
+    // The contact is tracked here from the commits alone, so a stall or a rewind (which
+    // restores a checkpoint's contact) would need the Episode's own bookkeeping.
+    ASSERT_GE(r.chosen, 0) << "step " << r.step << " stalled; this test needs a run that commits every step";
+    ASSERT_FALSE(r.rewind) << "step " << r.step << " rewound; this test needs a run without rewinds";
     const BranchVerdict& chosen = r.candidates[r.chosen].verdict;
     if (!chosen.rotation_only) contact = chosen.body_counts.back();
   }
   EXPECT_GT(judged_in_contact, 0);
   for (const StepRecord& r : run(0))
     for (const CandidateRecord& c : r.candidates) EXPECT_FALSE(c.verdict.turn_in_contact);
+}
+
+// [ours] The stagnant-pocket signals (rewind_controller.h): each step's new floor cells
+// are what its commit added to the coverage grid, so over a run without rewinds they
+// sum to the grid's growth; a stall adds none, and only a translation can drop.
+TEST(Episode, NewFloorCellsSumToTheGridsGrowth) {
+  VALERANT_REQUIRE_OPENARENA();
+  Config config = smallConfig(3);
+  config.dead_pocket.stagnant_steps = 1000;  // signals on, no stagnant rewind within 3 steps
+  auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  Episode episode(world, config);
+  const size_t before = episode.grid().observedCells();
+  episode.runUntilDone(nullptr);
+  size_t sum = 0;
+  for (const StepRecord& r : episode.history()) {
+    ASSERT_FALSE(r.rewind) << "step " << r.step << " rewound; this test needs a run without rewinds";
+    EXPECT_GE(r.new_floor_cells, 0);
+    if (r.chosen < 0) EXPECT_EQ(r.new_floor_cells, 0) << "step " << r.step;
+    if (r.drop) EXPECT_FALSE(r.candidates[r.chosen].verdict.rotation_only) << "step " << r.step;
+    sum += static_cast<size_t>(r.new_floor_cells);
+  }
+  EXPECT_GT(sum, 0u);
+  EXPECT_EQ(sum, episode.grid().observedCells() - before);
 }

@@ -39,3 +39,19 @@ TEST(EpisodeJson, CandidateTruthCountsInSolidFramesAndTheRise) {
   record.candidates[1].truth.clear();
   EXPECT_FALSE(toJson(record)["verdicts"][1].contains("truth_rise_units"));
 }
+
+// The stagnant-pocket rule's signals and its rewinds are in the record (docs/pockets.md).
+TEST(EpisodeJson, PocketSignalsAndStagnantRewinds) {
+  StepRecord record;
+  record.new_floor_cells = 7;
+  record.drop = true;
+  record.rewind = true;
+  record.rewind_stagnant = true;
+  record.rewind_to = 12;
+  const nlohmann::json j = toJson(record);
+  EXPECT_EQ(j["new_floor_cells"], 7);
+  EXPECT_EQ(j["drop"], true);
+  EXPECT_EQ(j["rewind_stagnant"], true);
+  EXPECT_EQ(j["rewind_to"], 12);
+  EXPECT_EQ(toJson(StepRecord{})["rewind_stagnant"], false);
+}

@@ -103,6 +103,21 @@ TEST(Policy, ArgmaxOverAdmissibleWithDeterministicTies) {
   EXPECT_EQ(v[4].reason, "turn where the last translation ended in contact");
 }
 
+// The verdicts scored as predicted collisions: either test, or a turn held back after a
+// contact; a lost track, the failed region or a short action's unclear end are not.
+TEST(Policy, PredictedCollisionsAreTheTestsAndTurnsInContact) {
+  BranchVerdict v;
+  EXPECT_FALSE(v.predictsCollision());
+  v.slam_lost = v.enters_failed = v.short_unclear = v.floor_unknown = true;
+  EXPECT_FALSE(v.predictsCollision());
+  for (bool BranchVerdict::*flag :
+       {&BranchVerdict::collision_pc, &BranchVerdict::collision_depth, &BranchVerdict::turn_in_contact}) {
+    BranchVerdict w;
+    w.*flag = true;
+    EXPECT_TRUE(w.predictsCollision());
+  }
+}
+
 TEST(Policy, MotionBeyondMaxProgressIsInadmissible) {
   PolicyConfig config;  // max_progress 3
   std::vector<BranchVerdict> v(3);
@@ -250,6 +265,76 @@ TEST(RewindController, DisabledNeverRewinds) {
     EXPECT_EQ(r.recordStep(id, {65, 64}, true, true, {{65, 64}}), (std::vector<uint64_t>{id}));
   EXPECT_FALSE(r.check());
   EXPECT_TRUE(r.retained().empty());
+}
+
+// [ours] Stagnant pockets (rewind_controller.h), K = 3 steps under 5 new floor cells.
+// Step 1 walks (64,64) -> (66,64) seeing 40 new cells; step 2 drops off a ledge into
+// (67,64)-(68,64) (12 new cells: the lower room); steps 3-6 walk and turn there, each
+// seeing 0-4 new cells: a translation and a turn in turn, never three rotations in a
+// row. Checkpoints kept 1: the drop anchor (2) is held beyond the most recent anchor,
+// and anchor 3 between them is released. After step 6 (the third stagnant step) the
+// rewind goes to 2, before the drop, and F takes every cell from the drop on: (67,64),
+// (68,64), (69,64), (70,64); the drop's start cell (66,64) stays free.
+TEST(RewindController, StagnantPocketRewindsBeforeTheLatestDrop) {
+  DeadPocketConfig config;
+  config.checkpoints_kept = 1;
+  config.max_rewinds = 5;
+  config.stagnant_steps = 3;
+  config.stagnant_cells = 5;
+  RewindController r(config);
+  EXPECT_EQ(r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}, {66, 64}}, {false, 40}),
+            (std::vector<uint64_t>{}));
+  // The drop: anchor 2 is the most recent anchor, and 1 goes.
+  EXPECT_EQ(r.recordStep(2, {66, 64}, true, false, {{66, 64}, {67, 64}, {68, 64}}, {true, 12}),
+            (std::vector<uint64_t>{1}));
+  // A stagnant walk: 3 is the most recent anchor, 2 is held as the drop anchor.
+  EXPECT_EQ(r.recordStep(3, {68, 64}, true, false, {{68, 64}, {69, 64}}, {false, 4}), (std::vector<uint64_t>{}));
+  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{2, 3}));
+  EXPECT_EQ(r.recordStep(4, {69, 64}, true, true, {{69, 64}}, {false, 0}), (std::vector<uint64_t>{4}));
+  EXPECT_FALSE(r.check());  // two stagnant steps
+  // A walk that sees 5 new cells gains: the count starts again.
+  EXPECT_EQ(r.recordStep(5, {69, 64}, true, false, {{69, 64}, {70, 64}}, {false, 5}),
+            (std::vector<uint64_t>{3}));  // anchor 3, between the drop anchor and 5, is released
+  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{2, 5}));
+  EXPECT_EQ(r.stagnantSteps(), 0);
+  r.recordStep(6, {70, 64}, true, true, {{70, 64}}, {false, 1});
+  r.recordStep(7, {70, 64}, true, false, {{70, 64}, {69, 64}}, {false, 0});
+  EXPECT_FALSE(r.check());
+  r.recordStep(8, {69, 64}, true, true, {{69, 64}}, {false, 2});
+  EXPECT_EQ(r.stalledSteps(), 1);  // no dead pocket by the paper's rule
+  const auto d = r.check();
+  ASSERT_TRUE(d);
+  EXPECT_TRUE(d->stagnant);
+  EXPECT_EQ(d->checkpoint, 2u);
+  EXPECT_EQ(d->discarded_steps, 7);  // steps 2 to 8
+  EXPECT_EQ(d->failed_cells, (std::set<Cell>{{67, 64}, {68, 64}, {69, 64}, {70, 64}}));
+  // The held checkpoints from the drop anchor on are consumed: 2 and 7 (5 went when 7 came).
+  EXPECT_EQ(r.apply(*d), (std::vector<uint64_t>{2, 7}));
+  EXPECT_TRUE(r.retained().empty());
+  EXPECT_EQ(r.stagnantSteps(), 0);
+}
+
+// Without a drop the stagnant rule rewinds to the most recent anchor, as the paper's; and
+// off (the default) it never fires and no drop anchor is held.
+TEST(RewindController, StagnantPocketWithoutADropAndOff) {
+  DeadPocketConfig config;
+  config.stagnant_steps = 2;
+  RewindController r(config);
+  r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}}, {false, 0});
+  r.recordStep(2, {65, 64}, true, false, {{65, 64}, {66, 64}}, {false, 0});
+  const auto d = r.check();
+  ASSERT_TRUE(d);
+  EXPECT_TRUE(d->stagnant);
+  EXPECT_EQ(d->checkpoint, 2u);
+  EXPECT_EQ(d->failed_cells, (std::set<Cell>{{66, 64}}));
+  DeadPocketConfig paper;
+  paper.checkpoints_kept = 1;
+  RewindController off(paper);
+  off.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}}, {true, 0});
+  EXPECT_EQ(off.recordStep(2, {65, 64}, true, false, {{65, 64}, {66, 64}}, {false, 0}), (std::vector<uint64_t>{1}));
+  for (uint64_t id = 3; id < 20; ++id) off.recordStep(id, {66, 64}, true, false, {{66, 64}, {67, 64}}, {false, 0});
+  EXPECT_FALSE(off.check());
+  EXPECT_EQ(off.stagnantSteps(), 0);
 }
 
 TEST(Policy, BaselinesChooseAmongTheAdmissible) {

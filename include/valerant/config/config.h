@@ -165,6 +165,10 @@ struct DeadPocketConfig {
   int checkpoints_kept = 3;
   int max_rewinds = 2;
   int anchor_free_cells = 0;  // [ours] cells within this Chebyshev radius of the anchor stay out of F
+  // [ours] Stagnant pockets (rewind_controller.h): 0 = off (the paper).
+  int stagnant_steps = 0;     // steps in a row that observe under stagnant_cells new floor cells
+  int stagnant_cells = 5;     // coverage-grid cells
+  double drop_height = 0.36;  // eye heights: a translation ending this far below its start is a drop (a step is 18 / 50)
 };
 
 struct MapConfig {

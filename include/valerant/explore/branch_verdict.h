@@ -43,6 +43,11 @@ struct BranchVerdict {
   double score = 0;
   bool admissible = false;
   std::string reason;  // "" when admissible
+
+  // Rejected as colliding: the outcome scored against the engine's truth (verdict
+  // precision and recall) and drawn red. A turn after a contact counts: it is held back
+  // for fear of solid.
+  bool predictsCollision() const { return collision_pc || collision_depth || turn_in_contact; }
 };
 
 }  // namespace valerant

@@ -52,10 +52,13 @@ struct StepRecord {
   std::vector<CandidateRecord> candidates;
   int chosen = -1;             // index into candidates, -1 on a stall
   bool rewind = false;
+  bool rewind_stagnant = false;  // [ours] declared by the stagnant-pocket rule (rewind_controller.h)
   uint64_t rewind_to = 0;
   int discarded_steps = 0;
   size_t map_keyframes = 0;    // keyframes in the global map after the step
   int committed_steps = 0;     // committed steps of the kept path after the step (a rewind lowers it)
+  int new_floor_cells = 0;     // coverage-grid floor cells the step observed first
+  bool drop = false;           // a committed translation that ended dead_pocket.drop_height or more below its start
   StageSeconds seconds;
   double wall_seconds = 0;
 };

@@ -16,6 +16,20 @@
 // kept per step of a long turn in place grew memory by tens of MB a step. Each rewind
 // consumes its anchor, so a second dead pocket reaches further back. At most
 // `max_rewinds` (2) per episode.
+//
+// [ours] Stagnant pockets (docs/pockets.md; off by default, the paper). In a long
+// episode the agent can circle in a part it has seen, a translation and a half turn in
+// turn, which never makes three rotations in a row; and where it walked off a ledge, the
+// three most recent anchors all lie below it. With `stagnant_steps` K > 0, K steps in a
+// row (stalls included) that each observed fewer than `stagnant_cells` new floor cells
+// also declare a dead pocket. Its rewind goes to the drop anchor, the checkpoint before
+// the latest committed translation that ended `drop_height` eye heights or more below
+// its start (a drop: the agent cannot walk back up), where one is held; else to the
+// most recent anchor, as the paper's. The drop anchor is held beyond the
+// `checkpoints_kept` most recent ones; the anchors between them are released (a
+// checkpoint is tens of MB), though their steps' cells are kept for F. Every cell the
+// discarded steps passed through goes into F, the drop's own path too, so the agent
+// does not walk off the same ledge again.
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -31,6 +45,13 @@ struct RewindDecision {
   uint64_t checkpoint = 0;           // where to go back to
   int discarded_steps = 0;           // committed steps undone
   std::set<Cell> failed_cells;       // cells to add to F (the anchor's neighbourhood excluded)
+  bool stagnant = false;             // [ours] declared by the stagnant-pocket rule, not by rotations
+};
+
+// [ours] What a step did for the stagnant-pocket rule (see above).
+struct PocketSignals {
+  bool drop = false;        // a committed translation that ended drop_height or more below its start
+  int new_floor_cells = 0;  // floor cells of the coverage grid the step observed first
 };
 
 class RewindController {
@@ -42,7 +63,7 @@ class RewindController {
   // `cells`, or a stall. Returns the checkpoints that are no longer needed (this
   // step's own, unless it is an anchor).
   std::vector<uint64_t> recordStep(uint64_t checkpoint, const Cell& start_cell, bool committed,
-                                   bool rotation_only, const std::set<Cell>& cells);
+                                   bool rotation_only, const std::set<Cell>& cells, const PocketSignals& signals = {});
   // A rewind when a dead pocket is declared and one is allowed and possible.
   std::optional<RewindDecision> check();
   // Applies `decision` (after the caller restored its checkpoint); returns checkpoints
@@ -54,6 +75,7 @@ class RewindController {
   bool canRewindLater() const;
   int rewinds() const { return rewinds_; }
   int stalledSteps() const { return stalled_; }
+  int stagnantSteps() const { return stagnant_; }
   // Every checkpoint the controller may still rewind to.
   std::vector<uint64_t> retained() const;
 
@@ -61,15 +83,20 @@ class RewindController {
   struct Step {
     uint64_t checkpoint;
     Cell start_cell;
-    bool translational;  // an anchor: the only steps whose checkpoint is held
+    bool translational;  // an anchor: the only steps whose checkpoint may be held
+    bool held;           // its checkpoint is still held (an anchor between the drop anchor and the recent ones is not)
+    bool drop;           // [ours] a translation that dropped
     std::set<Cell> cells;
   };
+  // The rewind to the step at `anchor` (held): every step from it on is discarded.
+  RewindDecision rewindTo(std::deque<Step>::const_iterator anchor) const;
   bool rewindsLeft() const { return config_.enabled && rewinds_ < config_.max_rewinds; }
   // No rewind can follow: releases every anchor and forgets the steps.
   void releaseAll(std::vector<uint64_t>& released);
   DeadPocketConfig config_;
   std::deque<Step> steps_;  // since the oldest retained anchor
   int stalled_ = 0;         // consecutive rotation-only or stalled steps
+  int stagnant_ = 0;        // [ours] consecutive steps that observed under stagnant_cells new floor cells
   int rewinds_ = 0;
 };
 

@@ -79,6 +79,7 @@ class CoverageGrid {
   double heightOf(const Eigen::Vector3d& p) const { return normal_.dot(p - origin_) / kappa_; }
   bool visited(const Cell& c) const { return inside(c) && visited_[index(c)]; }
   bool observed(const Cell& c) const { return inside(c) && observed_[index(c)]; }
+  size_t observedCells() const { return observed_cells_; }  // cells marked as observed floor
   bool obstacle(const Cell& c) const {
     return inside(c) && obstacle_points_[index(c)] >= static_cast<uint32_t>(config_.obstacle_min_points);
   }
@@ -117,6 +118,7 @@ class CoverageGrid {
   double cell_size_, d_fwd_map_, kappa_;
   Eigen::Vector3d origin_, axis_u_, axis_v_, normal_;
   std::vector<uint8_t> visited_, observed_;
+  size_t observed_cells_ = 0;
   std::vector<uint32_t> obstacle_points_;
   SurfaceLayer surface_;
 };
