@@ -12,7 +12,7 @@ std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Ce
   if (config_.stagnant_steps > 0)
     stagnant_ = signals.new_floor_cells >= config_.stagnant_cells ? 0 : stagnant_ + 1;
   const bool drop = translational && signals.drop && config_.stagnant_steps > 0;
-  steps_.push_back({checkpoint, start_cell, translational, translational, drop, committed ? cells : std::set<Cell>{}});
+  steps_.push_back({checkpoint, start_cell, translational, drop, committed ? cells : std::set<Cell>{}});
   std::vector<uint64_t> released;
   if (!translational) released.push_back(checkpoint);
   if (!rewindsLeft()) {  // no rewind can follow: nothing to keep

@@ -83,8 +83,8 @@ class RewindController {
   struct Step {
     uint64_t checkpoint;
     Cell start_cell;
-    bool translational;  // an anchor: the only steps whose checkpoint may be held
-    bool held;           // its checkpoint is still held (an anchor between the drop anchor and the recent ones is not)
+    bool held;           // an anchor whose checkpoint is still held: a translation's, unless it lies between the
+                         // drop anchor and the recent ones
     bool drop;           // [ours] a translation that dropped
     std::set<Cell> cells;
   };
