@@ -331,6 +331,7 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.number("stagnant_steps", d.stagnant_steps, 0, 100000);
   s.number("stagnant_cells", d.stagnant_cells, 1, 100000);
   s.number("drop_height", d.drop_height, 0.0, 100.0);
+  s.boolean("keep_map", d.keep_map);
   s.finish();
 }
 
@@ -536,6 +537,10 @@ Config ConfigDocument::parse() const {
                 "slam.visual.sweep.max_baseline_ratio", v.sweep.max_baseline_ratio);
   requireAtMost(source, "loop_closure.min_inliers", c.loop_closure.min_inliers, "loop_closure.min_matches",
                 c.loop_closure.min_matches);
+  // A closure rebuilds the map from the committed keyframes alone (LoopClosure::restoreInto),
+  // which would drop the keyframes a rewind kept.
+  if (c.dead_pocket.keep_map && c.loop_closure.enabled)
+    top.fail("dead_pocket.keep_map", "cannot be true while loop_closure.enabled is true");
   return c;
 }
 

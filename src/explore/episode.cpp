@@ -357,8 +357,10 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
   world_.restore(decision.checkpoint);
   pipeline_.restore(decision.checkpoint);
   const Saved& s = saved_.at(decision.checkpoint);
-  grid_ = s.grid;
-  map_.truncate(s.map_marker);
+  if (!config_.dead_pocket.keep_map) {  // [ours] else what the discarded steps observed stays
+    grid_ = s.grid;
+    map_.truncate(s.map_marker);
+  }
   trajectory_.resize(s.trajectory_size);
   if (truth_.size() > s.trajectory_size) truth_.resize(s.trajectory_size);
   committed_steps_ = s.committed_steps;

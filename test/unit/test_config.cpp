@@ -73,6 +73,7 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_EQ(c.dead_pocket.stagnant_steps, 0);  // [ours], off: only the paper's rotations declare a dead pocket
   EXPECT_EQ(c.dead_pocket.stagnant_cells, 5);
   EXPECT_DOUBLE_EQ(c.dead_pocket.drop_height, 0.36);
+  EXPECT_FALSE(c.dead_pocket.keep_map);  // [ours], off: a rewind truncates the map (the paper)
   EXPECT_EQ(c.world.width, 320);
   EXPECT_EQ(c.world.height, 240);
   EXPECT_DOUBLE_EQ(c.world.d_fwd_units, 256);
@@ -372,6 +373,22 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
             "within [collision.height_low, collision.height_high) = [0.18, 1.19)");
   EXPECT_EQ(errorOfOverride("collision.step_height", "0.36"), "");
   EXPECT_EQ(errorOfOverride("collision.step_height", "0.18"), "");
+}
+
+// [ours] A rewind that keeps the map (dead_pocket.keep_map) cannot go with a loop
+// closure, which rebuilds the map from the committed keyframes alone.
+TEST(Config, KeepMapExcludesLoopClosure) {
+  ConfigDocument keep = ConfigDocument::load(kShipped);
+  keep.setAssignment("dead_pocket.keep_map=true", "--set dead_pocket.keep_map=true");
+  EXPECT_TRUE(keep.parse().dead_pocket.keep_map);
+  keep.setAssignment("loop_closure.enabled=true", "--set loop_closure.enabled=true");
+  try {
+    keep.parse();
+    ADD_FAILURE() << "keep_map with a loop closure was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--set dead_pocket.keep_map=true: dead_pocket.keep_map: cannot be true while loop_closure.enabled is true");
+  }
 }
 
 TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {

@@ -103,6 +103,61 @@ TEST(Episode, RewindRestoresTheAnchorAndMarksFailedCells) {
   EXPECT_TRUE(rewound) << "no rotation-only commit in " << episode.history().size() << " steps";
 }
 
+namespace {
+
+// Runs `config` on oa_dm1 until its first rewind; returns the map's keyframes and the
+// grid's observed floor cells just before and just after it.
+struct AroundRewind {
+  bool rewound = false;
+  size_t keyframes_before = 0, keyframes_after = 0, observed_before = 0, observed_after = 0;
+  size_t trajectory_before = 0, trajectory_after = 0;
+};
+AroundRewind firstRewind(const Config& config) {
+  auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  Episode episode(world, config);
+  AroundRewind a;
+  while (!episode.finished() && !a.rewound) {
+    a.keyframes_before = episode.map().keyframes().size();
+    a.observed_before = episode.grid().observedCells();
+    a.trajectory_before = episode.trajectory().size();
+    const StepRecord r = episode.step();
+    a.rewound = r.rewind;
+    a.keyframes_after = episode.map().keyframes().size();
+    a.observed_after = episode.grid().observedCells();
+    a.trajectory_after = episode.trajectory().size();
+  }
+  return a;
+}
+
+}  // namespace
+
+// [ours] dead_pocket.keep_map: the same rewind as above moves the agent back (world,
+// SLAM, trajectory) but keeps what the discarded steps observed; the paper's truncates
+// the map to the anchor's.
+TEST(Episode, ARewindThatKeepsTheMapMovesOnlyTheAgent) {
+  VALERANT_REQUIRE_OPENARENA();
+  Config config = smallConfig(6);
+  config.dead_pocket.rotation_only_steps = 1;
+  config.policy.kind = "forward";
+  const AroundRewind paper = firstRewind(config);
+  ASSERT_TRUE(paper.rewound);
+  EXPECT_LT(paper.keyframes_after, paper.keyframes_before);  // a translation's keyframes went
+  EXPECT_LT(paper.trajectory_after, paper.trajectory_before);
+  config.dead_pocket.keep_map = true;
+  const AroundRewind kept = firstRewind(config);
+  ASSERT_TRUE(kept.rewound);
+  // The same decisions up to the rewind (the option changes nothing before it) ...
+  EXPECT_EQ(kept.keyframes_before, paper.keyframes_before);
+  EXPECT_EQ(kept.trajectory_after, paper.trajectory_after);
+  // ... and after it the map and the grid hold everything they held before, plus what
+  // the rewinding step's own turn added before the rewind; the paper's lost both.
+  EXPECT_GE(kept.keyframes_after, kept.keyframes_before);
+  EXPECT_GE(kept.observed_after, kept.observed_before);
+  EXPECT_GT(kept.keyframes_after, paper.keyframes_after);
+  EXPECT_GT(kept.observed_after, paper.observed_after);
+}
+
 TEST(Episode, AStallWithNoRewindLeftEndsTheEpisode) {
   VALERANT_REQUIRE_OPENARENA();
   // A selector that admits nothing: every step is a stall, and with no translation
@@ -256,8 +311,12 @@ TEST(Episode, NewFloorCellsSumToTheGridsGrowth) {
   for (const StepRecord& r : episode.history()) {
     ASSERT_FALSE(r.rewind) << "step " << r.step << " rewound; this test needs a run without rewinds";
     EXPECT_GE(r.new_floor_cells, 0);
-    if (r.chosen < 0) EXPECT_EQ(r.new_floor_cells, 0) << "step " << r.step;
-    if (r.drop) EXPECT_FALSE(r.candidates[r.chosen].verdict.rotation_only) << "step " << r.step;
+    if (r.chosen < 0) {
+      EXPECT_EQ(r.new_floor_cells, 0) << "step " << r.step;
+    }
+    if (r.drop) {
+      EXPECT_FALSE(r.candidates[r.chosen].verdict.rotation_only) << "step " << r.step;
+    }
     sum += static_cast<size_t>(r.new_floor_cells);
   }
   EXPECT_GT(sum, 0u);

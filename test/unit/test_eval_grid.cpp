@@ -88,6 +88,9 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_DOUBLE_EQ(paper_row.collision.body_radius, paper_file.collision.body_radius);
   EXPECT_DOUBLE_EQ(paper_file.collision.body_radius, 0.21);  // the paper's rho
   EXPECT_DOUBLE_EQ(full.collision.body_radius, 0.30);        // ours (docs/body_radius.md)
+  EXPECT_EQ(paper_row.dead_pocket.stagnant_steps, paper_file.dead_pocket.stagnant_steps);
+  EXPECT_EQ(paper_row.dead_pocket.keep_map, paper_file.dead_pocket.keep_map);
+  EXPECT_FALSE(paper_file.dead_pocket.keep_map);  // the paper's rewind truncates the map
   EXPECT_EQ(paper_row.slam.depth_prior, paper_file.slam.depth_prior);
   EXPECT_EQ(paper_file.slam.depth_prior, "none");
   EXPECT_EQ(full.slam.depth_prior, "learned");  // on by default since v9 (docs/depth_prior.md)

@@ -169,6 +169,10 @@ struct DeadPocketConfig {
   int stagnant_steps = 0;     // steps in a row that observe under stagnant_cells new floor cells
   int stagnant_cells = 5;     // coverage-grid cells
   double drop_height = 0.36;  // eye heights: a translation ending this far below its start is a drop (a step is 18 / 50)
+  // [ours] A rewind keeps the map and the coverage grid (what the discarded steps
+  // observed stays observed) and rewinds only the agent: world, SLAM, trajectory.
+  // false = the paper: the map is truncated to the anchor's.
+  bool keep_map = false;
 };
 
 struct MapConfig {
