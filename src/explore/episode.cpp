@@ -185,6 +185,10 @@ StepRecord Episode::step() {
     const double fall = grid_->heightOf(trajectory_[start_frame].translation()) -
                         grid_->heightOf(trajectory_.back().translation());
     signals.drop = !rotation_only && fall >= config_.dead_pocket.drop_height;
+    // Every candidate starts at the same pose; eq. 6 leaves out the committed points
+    // already inside the body there and counts them in start_occupied.
+    for (const BranchVerdict& v : verdicts)
+      signals.start_in_contact |= v.start_occupied >= config_.collision.n_occ;
   }
   record.new_floor_cells = signals.new_floor_cells;
   record.drop = signals.drop;

@@ -11,7 +11,9 @@ std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Ce
   stalled_ = translational ? 0 : stalled_ + 1;
   if (config_.stagnant_steps > 0)
     stagnant_ = signals.new_floor_cells >= config_.stagnant_cells ? 0 : stagnant_ + 1;
-  const bool drop = translational && signals.drop && config_.stagnant_steps > 0;
+  // A drop that started in contact is no drop anchor: a rewind there would put the
+  // agent back where a graze left it, maybe inside a brush (docs/pockets.md, kaos2).
+  const bool drop = translational && signals.drop && !signals.start_in_contact && config_.stagnant_steps > 0;
   steps_.push_back({checkpoint, start_cell, translational, drop, committed ? cells : std::set<Cell>{}});
   std::vector<uint64_t> released;
   if (!translational) released.push_back(checkpoint);
@@ -20,31 +22,30 @@ std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Ce
     return released;
   }
   if (!translational) return released;
-  // Keep the steps from the oldest retained anchor on; release what lies before it.
-  int anchors = 0;
-  size_t keep_from = steps_.size();
-  for (size_t i = steps_.size(); i-- > 0;) {
-    if (steps_[i].held && ++anchors > config_.checkpoints_kept) break;
-    keep_from = i;
-  }
-  // ... or from the latest drop anchor, when it lies further back: the anchors between
-  // it and the recent ones are released, their steps (cells for F) kept.
-  size_t drop_at = steps_.size();
+  // Held: the checkpoints_kept most recent anchors and, where one is held, the latest
+  // drop anchor with the checkpoints_kept anchors before it, so that a pocket met after
+  // a stagnant rewind to the drop can still be rewound out of. The anchors between are
+  // released (a checkpoint is tens of MB); their steps stay, for their cells in F.
+  std::vector<bool> keep(steps_.size(), false);
+  auto holdBefore = [&](size_t end, int n) {
+    for (size_t i = end; i-- > 0 && n > 0;)
+      if (steps_[i].held) keep[i] = true, --n;
+  };
+  holdBefore(steps_.size(), config_.checkpoints_kept);
   for (size_t i = steps_.size(); i-- > 0;)
     if (steps_[i].drop && steps_[i].held) {
-      drop_at = i;
+      keep[i] = true;
+      holdBefore(i, config_.checkpoints_kept);
       break;
     }
-  if (drop_at < keep_from) {
-    for (size_t i = drop_at + 1; i < keep_from; ++i)
-      if (steps_[i].held) {
-        released.push_back(steps_[i].checkpoint);
-        steps_[i].held = false;
-      }
-    keep_from = drop_at;
+  size_t keep_from = steps_.size();
+  for (size_t i = 0; i < steps_.size(); ++i) {
+    if (keep[i]) keep_from = std::min(keep_from, i);
+    if (steps_[i].held && !keep[i]) {
+      released.push_back(steps_[i].checkpoint);
+      steps_[i].held = false;
+    }
   }
-  for (size_t i = 0; i < keep_from; ++i)
-    if (steps_[i].held) released.push_back(steps_[i].checkpoint);
   steps_.erase(steps_.begin(), steps_.begin() + keep_from);
   return released;
 }

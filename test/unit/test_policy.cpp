@@ -269,12 +269,14 @@ TEST(RewindController, DisabledNeverRewinds) {
 
 // [ours] Stagnant pockets (rewind_controller.h), K = 3 steps under 5 new floor cells.
 // Step 1 walks (64,64) -> (66,64) seeing 40 new cells; step 2 drops off a ledge into
-// (67,64)-(68,64) (12 new cells: the lower room); steps 3-6 walk and turn there, each
-// seeing 0-4 new cells: a translation and a turn in turn, never three rotations in a
-// row. Checkpoints kept 1: the drop anchor (2) is held beyond the most recent anchor,
-// and anchor 3 between them is released. After step 6 (the third stagnant step) the
-// rewind goes to 2, before the drop, and F takes every cell from the drop on: (67,64),
-// (68,64), (69,64), (70,64); the drop's start cell (66,64) stays free.
+// (67,64)-(68,64) (12 new cells: the lower room); steps 3-8 walk and turn there, each
+// seeing 0-5 new cells: a translation and a turn in turn, never three rotations in a
+// row. Checkpoints kept 1: held are the most recent anchor, the drop anchor (2) and the
+// one anchor before it (1); anchor 3, between the drop and the most recent, is released
+// when 5 comes. After step 8 (the third stagnant step) the rewind goes to 2, before the
+// drop, and F takes every cell from the drop on: (67,64), (68,64), (69,64), (70,64); the
+// drop's start cell (66,64) stays free. Anchor 1 is still held after it: three turns in
+// place then rewind there, as the paper's rule would.
 TEST(RewindController, StagnantPocketRewindsBeforeTheLatestDrop) {
   DeadPocketConfig config;
   config.checkpoints_kept = 1;
@@ -284,18 +286,18 @@ TEST(RewindController, StagnantPocketRewindsBeforeTheLatestDrop) {
   RewindController r(config);
   EXPECT_EQ(r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}, {66, 64}}, {false, 40}),
             (std::vector<uint64_t>{}));
-  // The drop: anchor 2 is the most recent anchor, and 1 goes.
+  // The drop: anchor 2 is the most recent anchor and the drop anchor; 1 stays, before it.
   EXPECT_EQ(r.recordStep(2, {66, 64}, true, false, {{66, 64}, {67, 64}, {68, 64}}, {true, 12}),
-            (std::vector<uint64_t>{1}));
+            (std::vector<uint64_t>{}));
   // A stagnant walk: 3 is the most recent anchor, 2 is held as the drop anchor.
   EXPECT_EQ(r.recordStep(3, {68, 64}, true, false, {{68, 64}, {69, 64}}, {false, 4}), (std::vector<uint64_t>{}));
-  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{2, 3}));
+  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{1, 2, 3}));
   EXPECT_EQ(r.recordStep(4, {69, 64}, true, true, {{69, 64}}, {false, 0}), (std::vector<uint64_t>{4}));
   EXPECT_FALSE(r.check());  // two stagnant steps
   // A walk that sees 5 new cells gains: the count starts again.
   EXPECT_EQ(r.recordStep(5, {69, 64}, true, false, {{69, 64}, {70, 64}}, {false, 5}),
             (std::vector<uint64_t>{3}));  // anchor 3, between the drop anchor and 5, is released
-  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{2, 5}));
+  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{1, 2, 5}));
   EXPECT_EQ(r.stagnantSteps(), 0);
   r.recordStep(6, {70, 64}, true, true, {{70, 64}}, {false, 1});
   r.recordStep(7, {70, 64}, true, false, {{70, 64}, {69, 64}}, {false, 0});
@@ -310,8 +312,40 @@ TEST(RewindController, StagnantPocketRewindsBeforeTheLatestDrop) {
   EXPECT_EQ(d->failed_cells, (std::set<Cell>{{67, 64}, {68, 64}, {69, 64}, {70, 64}}));
   // The held checkpoints from the drop anchor on are consumed: 2 and 7 (5 went when 7 came).
   EXPECT_EQ(r.apply(*d), (std::vector<uint64_t>{2, 7}));
-  EXPECT_TRUE(r.retained().empty());
+  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{1}));
   EXPECT_EQ(r.stagnantSteps(), 0);
+  // Back at the drop's start the agent turns in place three times: a dead pocket by the
+  // paper's rule, rewound to anchor 1 (the drop path is in F already).
+  EXPECT_TRUE(r.canRewindLater());
+  for (uint64_t id = 9; id <= 11; ++id) r.recordStep(id, {66, 64}, true, true, {{66, 64}}, {false, 20});
+  const auto back = r.check();
+  ASSERT_TRUE(back);
+  EXPECT_FALSE(back->stagnant);
+  EXPECT_EQ(back->checkpoint, 1u);
+  EXPECT_EQ(back->discarded_steps, 4);  // step 1 and the three turns
+  EXPECT_EQ(back->failed_cells, (std::set<Cell>{{65, 64}, {66, 64}}));
+}
+
+// A drop whose start stood in contact (N_occ committed points inside the body there, as
+// where a graze left the camera in a brush) is no drop anchor: the stagnant rewind goes
+// to the most recent anchor instead, and only the checkpoints_kept most recent are held.
+TEST(RewindController, ADropThatStartedInContactIsNoDropAnchor) {
+  DeadPocketConfig config;
+  config.checkpoints_kept = 1;
+  config.stagnant_steps = 2;
+  config.stagnant_cells = 5;
+  RewindController r(config);
+  r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}}, {false, 40});
+  EXPECT_EQ(r.recordStep(2, {65, 64}, true, false, {{65, 64}, {66, 64}}, {true, 12, true}),
+            (std::vector<uint64_t>{1}));
+  EXPECT_EQ(r.recordStep(3, {66, 64}, true, false, {{66, 64}, {67, 64}}, {false, 0}), (std::vector<uint64_t>{2}));
+  EXPECT_EQ(r.retained(), (std::vector<uint64_t>{3}));
+  r.recordStep(4, {67, 64}, true, true, {{67, 64}}, {false, 0});
+  const auto d = r.check();
+  ASSERT_TRUE(d);
+  EXPECT_TRUE(d->stagnant);
+  EXPECT_EQ(d->checkpoint, 3u);
+  EXPECT_EQ(d->discarded_steps, 2);
 }
 
 // Without a drop the stagnant rule rewinds to the most recent anchor, as the paper's; and

@@ -24,12 +24,15 @@
 // row (stalls included) that each observed fewer than `stagnant_cells` new floor cells
 // also declare a dead pocket. Its rewind goes to the drop anchor, the checkpoint before
 // the latest committed translation that ended `drop_height` eye heights or more below
-// its start (a drop: the agent cannot walk back up), where one is held; else to the
-// most recent anchor, as the paper's. The drop anchor is held beyond the
-// `checkpoints_kept` most recent ones; the anchors between them are released (a
-// checkpoint is tens of MB), though their steps' cells are kept for F. Every cell the
-// discarded steps passed through goes into F, the drop's own path too, so the agent
-// does not walk off the same ledge again.
+// its start (a drop: the agent cannot walk back up) from a start not in contact (fewer
+// than N_occ committed points inside the body there: a drop that starts where a graze
+// left the camera would rewind it into the brush), where one is held; else to the most
+// recent anchor, as the paper's. The drop anchor is held beyond the `checkpoints_kept`
+// most recent ones, with the `checkpoints_kept` anchors before it, so that a pocket met
+// after the rewind can still be left; the anchors between are released (a checkpoint is
+// tens of MB), though their steps' cells are kept for F: at most 2 checkpoints_kept + 1
+// checkpoints are held. Every cell the discarded steps passed through goes into F, the
+// drop's own path too, so the agent does not walk off the same ledge again.
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -52,6 +55,7 @@ struct RewindDecision {
 struct PocketSignals {
   bool drop = false;        // a committed translation that ended drop_height or more below its start
   int new_floor_cells = 0;  // floor cells of the coverage grid the step observed first
+  bool start_in_contact = false;  // N_occ or more committed points inside the body at the step's start
 };
 
 class RewindController {
