@@ -23,7 +23,7 @@ BodyPointIndex::BodyPointIndex(const std::vector<Eigen::Vector3d>& points, const
       break;
     }
   binned_.reserve(points.size());
-  for (const auto& p : points) binned_.push_back({0, 0, p});
+  for (size_t k = 0; k < points.size(); ++k) binned_.push_back({0, 0, points[k], k});
   if (!reference || points.empty() || !(radius > 0)) return;
   n0_ = reference->n.normalized();
   e1_ = n0_.unitOrthogonal();
@@ -47,19 +47,19 @@ BodyPointIndex::BodyPointIndex(const std::vector<Eigen::Vector3d>& points, const
   indexed_ = true;
 }
 
-int BodyPointIndex::bruteForce(const FloorPlane& sample, double radius2) const {
-  int count = 0;
-  for (const auto& b : binned_) count += sample.axisDistanceSquared(b.position) <= radius2;
-  return count;
+std::vector<BodyPointIndex::Binned>::const_iterator BodyPointIndex::firstAt(long long ix, long long iy) const {
+  return std::lower_bound(binned_.begin(), binned_.end(), std::make_pair(ix, iy),
+                          [](const Binned& b, const std::pair<long long, long long>& key) {
+                            return lessCell(b.ix, b.iy, key.first, key.second);
+                          });
 }
 
-int BodyPointIndex::count(const FloorPlane& sample, double radius) const {
-  const double kappa = sample.cameraHeight();
-  if (!(kappa > 0)) return 0;
-  const double r = radius * kappa, radius2 = r * r;
+bool BodyPointIndex::searchBox(const FloorPlane& sample, double radius, long long box[4], double* radius2) const {
+  const double r = radius * sample.cameraHeight();
+  *radius2 = r * r;
   const double cosine = sample.n.dot(n0_);
   if (!indexed_ || !(cosine >= kMinAxisCosine) || std::abs(sample.n.norm() - 1) > 1e-9 || !sample.c.allFinite())
-    return bruteForce(sample, radius2);
+    return false;
   // p = c + t n + e with |e| <= r counts; p.n0 in [u_min, u_max] bounds t, and the
   // projection of p across n0 then lies within r of the axis segment's projection.
   const double c_u = sample.c.dot(n0_);
@@ -73,26 +73,23 @@ int BodyPointIndex::count(const FloorPlane& sample, double radius) const {
   double a_lo, a_hi, b_lo, b_hi;
   span(e1_, &a_lo, &a_hi);
   span(e2_, &b_lo, &b_hi);
-  if (!std::isfinite(a_lo) || !std::isfinite(a_hi) || !std::isfinite(b_lo) || !std::isfinite(b_hi))
-    return bruteForce(sample, radius2);
+  if (!std::isfinite(a_lo) || !std::isfinite(a_hi) || !std::isfinite(b_lo) || !std::isfinite(b_hi)) return false;
   // Cells are clamped to the indexed points' range (a far sample must not loop over
   // billions of empty cells); a box wider than a 16th of the points is cheaper by brute force.
   auto cellOf = [&](double v) {
     return static_cast<long long>(std::floor(std::clamp(v / cell_, -kMaxCellsPerAxis - 1, kMaxCellsPerAxis + 1)));
   };
-  const long long ix0 = std::max(binned_.front().ix, cellOf(a_lo)), ix1 = std::min(binned_.back().ix, cellOf(a_hi));
-  const long long iy0 = cellOf(b_lo), iy1 = cellOf(b_hi);
-  if (ix1 - ix0 + 1 > static_cast<long long>(binned_.size() / 16) + 1) return bruteForce(sample, radius2);
-  int count = 0;
-  for (long long ix = ix0; ix <= ix1; ++ix) {
-    auto first = std::lower_bound(binned_.begin(), binned_.end(), std::make_pair(ix, iy0),
-                                  [](const Binned& b, const std::pair<long long, long long>& key) {
-                                    return lessCell(b.ix, b.iy, key.first, key.second);
-                                  });
-    for (auto it = first; it != binned_.end() && it->ix == ix && it->iy <= iy1; ++it)
-      count += sample.axisDistanceSquared(it->position) <= radius2;
-  }
-  return count;
+  box[0] = std::max(binned_.front().ix, cellOf(a_lo));
+  box[1] = std::min(binned_.back().ix, cellOf(a_hi));
+  box[2] = cellOf(b_lo);
+  box[3] = cellOf(b_hi);
+  return box[1] - box[0] + 1 <= static_cast<long long>(binned_.size() / 16) + 1;
+}
+
+int BodyPointIndex::count(const FloorPlane& sample, double radius) const {
+  int n = 0;
+  forEachWithin(sample, radius, [&n](size_t) { ++n; });
+  return n;
 }
 
 }  // namespace valerant

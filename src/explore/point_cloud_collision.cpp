@@ -12,7 +12,7 @@ std::vector<std::vector<int>> bodyCylinderCounts(const std::vector<HeightedPoint
                                                  const CollisionConfig& config, const std::vector<double>& radii) {
   std::vector<std::vector<int>> counts;
   if (config.step_height > 0) {
-    for (double radius : radii) counts.push_back(steppedBodyCounts(points, samples, config, radius).counts);
+    for (SteppedCounts& s : steppedBodyCounts(points, samples, config, radii)) counts.push_back(std::move(s.counts));
     return counts;
   }
   if (radii.empty()) return counts;

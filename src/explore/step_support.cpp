@@ -2,40 +2,56 @@
 
 #include <algorithm>
 
+#include "valerant/explore/body_point_index.h"
+
 namespace valerant {
+
+std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& points,
+                                             const std::vector<FloorPlane>& samples, const CollisionConfig& config,
+                                             const std::vector<double>& radii) {
+  std::vector<SteppedCounts> out(radii.size());
+  if (radii.empty()) return out;
+  // Every confident point can count or carry the body, at any height (the support can
+  // climb); one index for all radii, its cells from the smallest. A non-finite point
+  // is never within the radius.
+  std::vector<const HeightedPoint*> confident;
+  std::vector<Eigen::Vector3d> positions;
+  for (const auto& p : points)
+    if (p.confidence >= config.min_confidence && p.position.allFinite()) {
+      confident.push_back(&p);
+      positions.push_back(p.position);
+    }
+  const BodyPointIndex index(positions, samples, *std::min_element(radii.begin(), radii.end()));
+  for (size_t r = 0; r < radii.size(); ++r) {
+    double support = 0;
+    for (const FloorPlane& s : samples) {
+      const double step_top = support + config.step_height, body_low = support + config.height_low,
+                   body_top = support + config.height_high;
+      bool blocked = false;
+      int band = 0;            // the paper's count over the support
+      double tread = support;  // the highest point within a step (the support if none)
+      bool any_tread = false;
+      index.forEachWithin(s, radii[r], [&](size_t k) {
+        const double h = confident[k]->h;
+        if (h > body_top) return;
+        if (h > step_top) blocked = true;
+        if (h >= body_low) ++band;
+        if (h <= step_top) {
+          tread = any_tread ? std::max(tread, h) : h;
+          any_tread = true;
+        }
+      });
+      if (!blocked) support = tread;
+      out[r].counts.push_back(blocked ? band : 0);
+      out[r].support.push_back(support);
+    }
+  }
+  return out;
+}
 
 SteppedCounts steppedBodyCounts(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& samples,
                                 const CollisionConfig& config, double radius) {
-  std::vector<const HeightedPoint*> confident;
-  for (const auto& p : points)
-    if (p.confidence >= config.min_confidence) confident.push_back(&p);
-  SteppedCounts out;
-  double support = 0;
-  for (const FloorPlane& s : samples) {
-    const double kappa = s.cameraHeight();
-    const double step_top = support + config.step_height, body_low = support + config.height_low,
-                 body_top = support + config.height_high;
-    bool blocked = false;
-    int band = 0;            // the paper's count over the support
-    double tread = support;  // the highest point within a step (the support if none)
-    bool any_tread = false;
-    if (kappa > 0) {
-      const double radius2 = (radius * kappa) * (radius * kappa);
-      for (const HeightedPoint* p : confident) {
-        if (p->h > body_top || s.axisDistanceSquared(p->position) > radius2) continue;
-        if (p->h > step_top) blocked = true;
-        if (p->h >= body_low) ++band;
-        if (p->h <= step_top) {
-          tread = any_tread ? std::max(tread, p->h) : p->h;
-          any_tread = true;
-        }
-      }
-    }
-    if (!blocked) support = tread;
-    out.counts.push_back(blocked ? band : 0);
-    out.support.push_back(support);
-  }
-  return out;
+  return steppedBodyCounts(points, samples, config, std::vector<double>{radius}).front();
 }
 
 }  // namespace valerant

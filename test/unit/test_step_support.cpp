@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "level_walk.h"
 #include "valerant/explore/point_cloud_collision.h"
@@ -156,4 +157,68 @@ TEST(StepSupport, ThePaperSettingKeepsThePapersCounts) {
   const auto counts = bodyCylinderCounts(staircase(), track(0, 3, 60), CollisionConfig(), {0.21}).front();
   EXPECT_EQ(counts[15], 20);
   EXPECT_EQ(counts[16], 51);
+}
+
+namespace {
+
+// The rule of step_support.h over every point, as the definition reads: the reference
+// the indexed counts must equal.
+SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, const std::vector<FloorPlane>& samples,
+                                  const CollisionConfig& config, double radius) {
+  SteppedCounts out;
+  double support = 0;
+  for (const FloorPlane& s : samples) {
+    const double kappa = s.cameraHeight();
+    bool blocked = false, any_tread = false;
+    int band = 0;
+    double tread = support;
+    for (const auto& p : points) {
+      if (!(kappa > 0) || p.confidence < config.min_confidence || !p.position.allFinite()) continue;
+      if (p.h > support + config.height_high || s.axisDistanceSquared(p.position) > radius * radius * kappa * kappa)
+        continue;
+      if (p.h > support + config.step_height) blocked = true;
+      if (p.h >= support + config.height_low) ++band;
+      if (p.h <= support + config.step_height) {
+        tread = any_tread ? std::max(tread, p.h) : p.h;
+        any_tread = true;
+      }
+    }
+    if (!blocked) support = tread;
+    out.counts.push_back(blocked ? band : 0);
+    out.support.push_back(support);
+  }
+  return out;
+}
+
+}  // namespace
+
+// The counts and supports from the index equal the definition's on random terraces
+// (heights in steps of 0.1 up to 2, some points unconfident, one non-finite), walked by
+// tilted axes, at two radii from one index, as the branch check asks for rho and the
+// prefix clearance.
+TEST(StepSupport, IndexedCountsEqualTheDefinition) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  const CollisionConfig config = stepped();
+  for (int trial = 0; trial < 10; ++trial) {
+    std::vector<HeightedPoint> points;
+    for (int i = 0; i < 3000; ++i) {
+      const double x = 4 * uniform(rng), y = 2 * uniform(rng);
+      const double z = 0.1 * std::floor(10 * std::max(0.0, x + 0.5 * uniform(rng)) / 2);  // terraces rising along x
+      points.push_back({{x, y, z}, z, i % 17 == 0 ? 1.0f : 10.0f});
+    }
+    points.push_back({{std::nan(""), 0, 0}, 0, 10});
+    std::vector<FloorPlane> samples = track(-4, 4, 50);
+    for (FloorPlane& s : samples) {  // tilt each axis a little, as fitted floors are
+      s.n = Eigen::Vector3d(0.05 * uniform(rng), 0.05 * uniform(rng), 1).normalized();
+      s.q = s.c - s.n;
+    }
+    const std::vector<double> radii = {0.3, 0.5};
+    const std::vector<SteppedCounts> indexed = steppedBodyCounts(points, samples, config, radii);
+    for (size_t r = 0; r < radii.size(); ++r) {
+      const SteppedCounts expected = steppedByBruteForce(points, samples, config, radii[r]);
+      EXPECT_EQ(indexed[r].counts, expected.counts) << "trial " << trial << " radius " << radii[r];
+      EXPECT_EQ(indexed[r].support, expected.support) << "trial " << trial << " radius " << radii[r];
+    }
+  }
 }

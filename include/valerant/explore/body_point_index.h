@@ -13,6 +13,7 @@
 // a conservative bound with a margin for rounding); a sample tilted more than 60 deg
 // from n0 is counted by brute force.
 #include <Eigen/Core>
+#include <cstddef>
 #include <vector>
 
 #include "valerant/geometry/floor_plane.h"
@@ -29,17 +30,44 @@ class BodyPointIndex {
   // (a radius larger than the constructor's only makes the searched box wider).
   int count(const FloorPlane& sample, double radius) const;
 
+  // Calls visit(k) for the index k (into the constructor's `points`) of every point
+  // within `radius` of the sample's axis, in no particular order: the points count()
+  // counts (none where the camera height is not positive).
+  template <class Visit>
+  void forEachWithin(const FloorPlane& sample, double radius, Visit&& visit) const;
+
  private:
   struct Binned {
     long long ix, iy;
     Eigen::Vector3d position;
+    size_t index;  // into the constructor's points
   };
-  int bruteForce(const FloorPlane& sample, double radius2) const;
+  // The cells [ix0, ix1] x [iy0, iy1] that can hold the sample's points, or false where
+  // the sample is searched by brute force; radius2 = (radius kappa)^2.
+  bool searchBox(const FloorPlane& sample, double radius, long long box[4], double* radius2) const;
+  // The first binned point at or after cell (ix, iy).
+  std::vector<Binned>::const_iterator firstAt(long long ix, long long iy) const;
 
   std::vector<Binned> binned_;  // sorted by (ix, iy)
   Eigen::Vector3d n0_, e1_, e2_;
   double cell_ = 0, u_min_ = 0, u_max_ = 0;
   bool indexed_ = false;  // false: every sample is counted by brute force
 };
+
+template <class Visit>
+void BodyPointIndex::forEachWithin(const FloorPlane& sample, double radius, Visit&& visit) const {
+  const double kappa = sample.cameraHeight();
+  if (!(kappa > 0)) return;
+  long long box[4];
+  double radius2 = 0;
+  if (!searchBox(sample, radius, box, &radius2)) {
+    for (const Binned& b : binned_)
+      if (sample.axisDistanceSquared(b.position) <= radius2) visit(b.index);
+    return;
+  }
+  for (long long ix = box[0]; ix <= box[1]; ++ix)
+    for (auto it = firstAt(ix, box[2]); it != binned_.end() && it->ix == ix && it->iy <= box[3]; ++it)
+      if (sample.axisDistanceSquared(it->position) <= radius2) visit(it->index);
+}
 
 }  // namespace valerant
