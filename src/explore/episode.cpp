@@ -238,8 +238,9 @@ void Episode::judge(const std::vector<std::string>& names, const std::vector<std
     v.coverage = terms.coverage;
     v.progress = terms.progress;
     v.enters_failed = failed_.enters(terms.cells, start_cell, v.rotation_only);
-    const int contact = config_.collision.turn_contact_points;
-    v.turn_in_contact = v.rotation_only && contact > 0 && contact_points_ >= contact;
+    const int contact = config_.collision.turn_contact_points, start = config_.collision.turn_start_points;
+    v.turn_in_contact = v.rotation_only && ((contact > 0 && contact_points_ >= contact) ||
+                                            (start > 0 && v.start_occupied >= start));
     Cell end_cell{-1, -1};
     grid_->cellOf(out.centres.back().back(), end_cell);
     v.goal = goal.goalTerm(start_cell, end_cell);

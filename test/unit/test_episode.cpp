@@ -280,7 +280,7 @@ TEST(Episode, TurnsWhereTheLastTranslationEndedInContactAreInadmissible) {
       if (c.verdict.turn_in_contact) {
         ++judged_in_contact;
         EXPECT_FALSE(c.verdict.admissible);
-        EXPECT_EQ(c.verdict.reason, "turn where the last translation ended in contact");
+        EXPECT_EQ(c.verdict.reason, "turn in place while in contact");
       }
     }
     // The contact is tracked here from the commits alone, so a stall or a rewind (which
@@ -291,6 +291,47 @@ TEST(Episode, TurnsWhereTheLastTranslationEndedInContactAreInadmissible) {
     if (!chosen.rotation_only) contact = chosen.body_counts.back();
   }
   EXPECT_GT(judged_in_contact, 0);
+  for (const StepRecord& r : run(0))
+    for (const CandidateRecord& c : r.candidates) EXPECT_FALSE(c.verdict.turn_in_contact);
+}
+
+// [ours] collision.turn_start_points = 1, on the same wide body: once a step is
+// committed its points stand inside the body at the next start, and a turn judged with
+// any there (start_occupied >= 1) is inadmissible; translations never are for it, and
+// with the option off no turn is.
+TEST(Episode, TurnsStartingWithCommittedPointsInTheBodyAreInadmissible) {
+  VALERANT_REQUIRE_OPENARENA();
+  auto run = [](int start_points) {
+    Config config = smallConfig(3);
+    config.policy.kind = "forward";
+    config.collision.body_radius = 3.0;
+    config.collision.n_occ = config.collision.n_occ_immediate = 10000000;
+    config.collision.depth_enabled = false;
+    config.collision.turn_start_points = start_points;
+    auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+    quake3::Quake3World world(map, config);
+    Episode episode(world, config);
+    episode.runUntilDone(nullptr);
+    return episode.history();
+  };
+  int judged_in_contact = 0, clear_turns = 0;
+  for (const StepRecord& r : run(1))
+    for (const CandidateRecord& c : r.candidates) {
+      if (!c.verdict.rotation_only) {
+        EXPECT_FALSE(c.verdict.turn_in_contact) << "step " << r.step << " " << c.verdict.candidate;
+        continue;
+      }
+      EXPECT_EQ(c.verdict.turn_in_contact, c.verdict.start_occupied >= 1) << "step " << r.step;
+      if (c.verdict.turn_in_contact) {
+        ++judged_in_contact;
+        EXPECT_FALSE(c.verdict.admissible);
+        EXPECT_EQ(c.verdict.reason, "turn in place while in contact");
+      } else {
+        ++clear_turns;
+      }
+    }
+  EXPECT_GT(judged_in_contact, 0);
+  EXPECT_GT(clear_turns, 0);  // step 1: nothing committed yet
   for (const StepRecord& r : run(0))
     for (const CandidateRecord& c : r.candidates) EXPECT_FALSE(c.verdict.turn_in_contact);
 }

@@ -100,7 +100,7 @@ TEST(Policy, ArgmaxOverAdmissibleWithDeterministicTies) {
   v[4].slam_lost = false;
   v[4].turn_in_contact = true;
   EXPECT_EQ(selectBranch(v, config), -1);
-  EXPECT_EQ(v[4].reason, "turn where the last translation ended in contact");
+  EXPECT_EQ(v[4].reason, "turn in place while in contact");
 }
 
 // The verdicts scored as predicted collisions: either test, or a turn held back after a

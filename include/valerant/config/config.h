@@ -140,6 +140,12 @@ struct CollisionConfig {
   // last frame (episode.h, docs/inside_brush.md): such a graze can leave the camera
   // inside the brush, and eq. 6 exempts the turns that follow. 0 = off (the paper).
   int turn_contact_points = 0;
+  // [ours] > 0: a turn in place is inadmissible while this many committed points stand
+  // inside eq. 6's body cylinder at its start (start_occupied, branch_check.h): with
+  // exact depth a surface point within the cylinder lies within the player's hull, so
+  // the camera stands in contact, maybe inside a brush after a graze eq. 6 did not see
+  // (docs/pockets.md). 0 = off (the paper).
+  int turn_start_points = 0;
   double center_fraction = 1.0 / 3.0;
   double d_near = 0.455;
   double s_min_coefficient = 0.085;

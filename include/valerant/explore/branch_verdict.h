@@ -11,8 +11,9 @@ struct BranchVerdict {
   bool rotation_only = false;
   bool collision_pc = false;
   bool collision_depth = false;
-  // [ours] A turn in place where the last committed translation ended in contact
-  // (collision.turn_contact_points, episode.h): the camera may stand inside a brush.
+  // [ours] A turn in place while in contact: where the last committed translation ended
+  // in contact (collision.turn_contact_points) or with committed points inside the body
+  // at its start (collision.turn_start_points; episode.h): the camera may stand inside a brush.
   bool turn_in_contact = false;
   int occupied_max = 0;
   double min_near_ratio = 0;

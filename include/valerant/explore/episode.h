@@ -15,7 +15,9 @@
 // [ours] With collision.turn_contact_points, a turn in place is inadmissible while the
 // camera stands where the last committed translation ended with that many points in
 // eq. 6's body cylinder: a graze can leave the camera inside the brush (seeing out
-// through its back faces), and eq. 6 exempts the turns (docs/inside_brush.md).
+// through its back faces), and eq. 6 exempts the turns (docs/inside_brush.md). With
+// collision.turn_start_points, likewise while that many committed points stand inside
+// the body cylinder at the turn's start (docs/pockets.md).
 // The same step code runs with in-process components (valerant_explore) and with the
 // ROS graph's proxies (the explorer node): one code path, the same decisions.
 #include <atomic>
