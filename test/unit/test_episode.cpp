@@ -251,6 +251,27 @@ TEST(Episode, ADeadEndAheadCommitsAShortTranslation) {
   }
 }
 
+namespace {
+
+// Three steps of the forward policy on oa_dm1 with a body 3 eye heights wide (eq. 6's
+// thresholds and eq. 7 out of reach) and the two turn guards at these thresholds.
+std::vector<StepRecord> wideBodyRun(int turn_contact_points, int turn_start_points) {
+  Config config = smallConfig(3);
+  config.policy.kind = "forward";
+  config.collision.body_radius = 3.0;
+  config.collision.n_occ = config.collision.n_occ_immediate = 10000000;
+  config.collision.depth_enabled = false;
+  config.collision.turn_contact_points = turn_contact_points;
+  config.collision.turn_start_points = turn_start_points;
+  auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  Episode episode(world, config);
+  episode.runUntilDone(nullptr);
+  return episode.history();
+}
+
+}  // namespace
+
 // [ours] collision.turn_contact_points = 1: a body 3 eye heights wide, so each walk
 // ends with points in its cylinder, and eq. 6's thresholds and eq. 7 out of reach, so
 // none is rejected for them; the forward policy commits uw while it is admissible.
@@ -258,20 +279,7 @@ TEST(Episode, ADeadEndAheadCommitsAShortTranslation) {
 // before any translation (step 1) it is not, and with the option off never.
 TEST(Episode, TurnsWhereTheLastTranslationEndedInContactAreInadmissible) {
   VALERANT_REQUIRE_OPENARENA();
-  auto run = [](int contact_points) {
-    Config config = smallConfig(3);
-    config.policy.kind = "forward";
-    config.collision.body_radius = 3.0;
-    config.collision.n_occ = config.collision.n_occ_immediate = 10000000;
-    config.collision.depth_enabled = false;
-    config.collision.turn_contact_points = contact_points;
-    auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
-    quake3::Quake3World world(map, config);
-    Episode episode(world, config);
-    episode.runUntilDone(nullptr);
-    return episode.history();
-  };
-  const std::vector<StepRecord> on = run(1);
+  const std::vector<StepRecord> on = wideBodyRun(1, 0);
   int contact = 0, judged_in_contact = 0;
   for (const StepRecord& r : on) {
     for (const CandidateRecord& c : r.candidates) {
@@ -291,7 +299,7 @@ TEST(Episode, TurnsWhereTheLastTranslationEndedInContactAreInadmissible) {
     if (!chosen.rotation_only) contact = chosen.body_counts.back();
   }
   EXPECT_GT(judged_in_contact, 0);
-  for (const StepRecord& r : run(0))
+  for (const StepRecord& r : wideBodyRun(0, 0))
     for (const CandidateRecord& c : r.candidates) EXPECT_FALSE(c.verdict.turn_in_contact);
 }
 
@@ -301,21 +309,8 @@ TEST(Episode, TurnsWhereTheLastTranslationEndedInContactAreInadmissible) {
 // with the option off no turn is.
 TEST(Episode, TurnsStartingWithCommittedPointsInTheBodyAreInadmissible) {
   VALERANT_REQUIRE_OPENARENA();
-  auto run = [](int start_points) {
-    Config config = smallConfig(3);
-    config.policy.kind = "forward";
-    config.collision.body_radius = 3.0;
-    config.collision.n_occ = config.collision.n_occ_immediate = 10000000;
-    config.collision.depth_enabled = false;
-    config.collision.turn_start_points = start_points;
-    auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
-    quake3::Quake3World world(map, config);
-    Episode episode(world, config);
-    episode.runUntilDone(nullptr);
-    return episode.history();
-  };
   int judged_in_contact = 0, clear_turns = 0;
-  for (const StepRecord& r : run(1))
+  for (const StepRecord& r : wideBodyRun(0, 1))
     for (const CandidateRecord& c : r.candidates) {
       if (!c.verdict.rotation_only) {
         EXPECT_FALSE(c.verdict.turn_in_contact) << "step " << r.step << " " << c.verdict.candidate;
@@ -332,7 +327,7 @@ TEST(Episode, TurnsStartingWithCommittedPointsInTheBodyAreInadmissible) {
     }
   EXPECT_GT(judged_in_contact, 0);
   EXPECT_GT(clear_turns, 0);  // step 1: nothing committed yet
-  for (const StepRecord& r : run(0))
+  for (const StepRecord& r : wideBodyRun(0, 0))
     for (const CandidateRecord& c : r.candidates) EXPECT_FALSE(c.verdict.turn_in_contact);
 }
 
