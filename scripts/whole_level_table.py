@@ -2,8 +2,8 @@
 """Summarises valerant_eval grids for docs/whole_level.md: one markdown row per grid
 folder (a folder per option setting), with the mean reachable floor observed, the mean
 in-solid committed frames (results.csv's penetrations), how many runs leave their spawn
-(commit a translation within their first 5 steps, stalls counted as steps) and the mean
-wall time of a run.
+(results.csv's first_translation_step: a translation committed within the first 5
+exploration steps, stalls counted) and the mean wall time of a run.
 
     scripts/whole_level_table.py [--spawns K] NAME=GRID_DIR [NAME=GRID_DIR ...]
 
@@ -11,34 +11,23 @@ wall time of a run.
 
 Exit status 0 done, 1 a grid folder or one of its files is missing or malformed."""
 import csv
-import json
-import os
 import sys
 
-LEAVE_WITHIN_STEPS = 5
+LEAVE_WITHIN_STEPS = 5  # kSpawnDepartureSteps of include/valerant/eval/spawn_departure.h
 
 
-def leaves_spawn(decisions_path):
-    with open(decisions_path) as f:
-        for line_number, line in enumerate(f, 1):
-            if line_number > LEAVE_WITHIN_STEPS:
-                break
-            step = json.loads(line)
-            if step["stall"]:
-                continue
-            chosen = next(v for v in step["verdicts"] if v["candidate"] == step["chosen"])
-            if not chosen["rotation_only"]:
-                return True
-    return False
+def leaves_spawn(row):
+    if not row["first_translation_step"]:
+        raise ValueError(f"{row['map']} spawn {row['spawn']}: no first_translation_step (a report from before it)")
+    return 1 <= int(row["first_translation_step"]) <= LEAVE_WITHIN_STEPS
 
 
 def summary(grid, spawns):
-    with open(os.path.join(grid, "results.csv")) as f:
+    with open(f"{grid}/results.csv") as f:
         rows = [r for r in csv.DictReader(f) if r["ok"] == "1" and (spawns is None or int(r["spawn"]) < spawns)]
     if not rows:
         raise ValueError(f"{grid}/results.csv: no finished run")
-    left = sum(leaves_spawn(os.path.join(grid, "runs", f"{r['map']}-s{r['spawn']}-{r['config']}", "decisions.jsonl"))
-               for r in rows)
+    left = sum(leaves_spawn(r) for r in rows)
     mean = lambda key: sum(float(r[key]) for r in rows) / len(rows)
     return (len(rows), mean("observed_reachable_percent"), mean("penetrations"), left, mean("wall_seconds"))
 
@@ -59,7 +48,7 @@ def main(argv):
         name, grid = arg.split("=", 1)
         try:
             runs, observed, in_solid, left, wall = summary(grid, spawns)
-        except (OSError, ValueError, KeyError, StopIteration, json.JSONDecodeError) as e:
+        except (OSError, ValueError, KeyError) as e:
             print(f"whole_level_table.py: {grid}: {e}", file=sys.stderr)
             return 1
         print(f"| {name} | {runs} | {observed:.1f} % | {in_solid:.2f} | {left} / {runs} | {wall:.0f} |")

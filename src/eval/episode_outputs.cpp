@@ -11,6 +11,7 @@
 #include "valerant/eval/coverage_curve.h"
 #include "valerant/eval/episode_truth.h"
 #include "valerant/eval/map_accuracy.h"
+#include "valerant/eval/spawn_departure.h"
 #include "valerant/eval/trajectory_metrics.h"
 #include "valerant/explore/episode_json.h"
 #include "valerant/explore/stage_seconds.h"
@@ -227,6 +228,7 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   report["committed_steps"] = episode.committedSteps();
   report["steps"] = episode.history().size();
   report["rewinds"] = episode.rewinds();
+  report["first_translation_step"] = firstTranslationStep(episode.history());  // 0: none (spawn_departure.h)
   report["stuck"] = episode.stuck();  // ended early: a stall with no rewind left (episode.h)
   report["failed_cells"] = episode.failed().cells().size();
   report["map_points"] = cloud.size();

@@ -12,6 +12,7 @@
 
 #include "valerant/common/error.h"
 #include "valerant/common/output_file.h"
+#include "valerant/eval/spawn_departure.h"
 
 namespace valerant {
 namespace {
@@ -75,6 +76,13 @@ std::string recorded(const nlohmann::json& j, const char* key, int digits = 0) {
   return hasNumber(j, key) ? fixed(number(j, key), digits) : "-";
 }
 
+// The first committed translation's step (spawn_departure.h): "none" for 0, "-" when the
+// report predates the field.
+std::string firstTranslationCell(const nlohmann::json& report) {
+  if (!hasNumber(report, "first_translation_step")) return "-";
+  return number(report, "first_translation_step") > 0 ? recorded(report, "first_translation_step") : "none";
+}
+
 // Text in a markdown table cell: no '|' that would split it, no line break.
 std::string cell(std::string text) {
   for (size_t i = 0; i < text.size(); ++i) {
@@ -92,7 +100,8 @@ std::string described(const nlohmann::json& v) {
 }
 
 // The top-level and ground_truth figures the report reads (numbers, or null: not recorded).
-const char* const kReportNumbers[] = {"committed_steps", "rewinds", "wall_seconds", "frames_rendered"};
+const char* const kReportNumbers[] = {"committed_steps", "rewinds", "wall_seconds", "frames_rendered",
+                                      "first_translation_step"};
 const char* const kGroundTruthNumbers[] = {
     "observed_reachable_percent", "observed_reachable_m2", "penetration_free_steps", "penetrations",
     "discarded_penetrations",     "false_rejections",      "missed_collisions",      "predicted_colliding",
@@ -201,7 +210,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     s.config = config;
     std::vector<std::vector<double>> curves, committed_curves, wall_curves;
     Mean observed_percent, observed_m2, per_clean_step, penetrations, outside_world, clip_only, discarded, rewinds, false_rejections, missed,
-        ate, accuracy, completeness, wall, frames_per_second, committed_steps, per_step;
+        ate, accuracy, completeness, wall, frames_per_second, committed_steps, per_step, left_spawn;
     std::map<std::string, Mean> stages;
     // Verdicts of the runs that record both figures of a ratio.
     double predicted = 0, predicted_wrongly = 0, truly = 0, truly_missed = 0;
@@ -236,6 +245,10 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
         truly_missed += number(g, "missed_collisions");
       }
       committed_steps.addField(j, "committed_steps");
+      if (hasNumber(j, "first_translation_step")) {
+        const double first = number(j, "first_translation_step");  // 0: never translated
+        left_spawn.add(first >= 1 && first <= kSpawnDepartureSteps ? 100.0 : 0.0);
+      }
       if (hasNumber(j, "committed_steps") && hasNumber(g, "observed_reachable_m2")) {
         const double steps = number(j, "committed_steps");
         per_step.add(steps > 0 ? number(g, "observed_reachable_m2") / steps : 0.0);
@@ -285,6 +298,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     s.frames_per_second = frames_per_second.value();
     s.committed_steps = committed_steps.value();
     s.observed_m2_per_step = per_step.value();
+    s.left_spawn_percent = left_spawn.value();
     for (const auto& [stage, seconds] : stages) s.stage_seconds[stage] = seconds.value();
     if (predicted > 0) s.verdict_precision = (predicted - predicted_wrongly) / predicted;
     if (truly > 0) s.verdict_recall = (truly - truly_missed) / truly;
@@ -300,7 +314,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
 namespace {
 
 const char* const kResultsCsvHeader =
-    "map,spawn,config,ok,committed_steps,rewinds,observed_reachable_percent,observed_reachable_m2,"
+    "map,spawn,config,ok,committed_steps,rewinds,first_translation_step,observed_reachable_percent,observed_reachable_m2,"
     "penetrations,penetrations_in_solid,penetrations_outside_world,penetrations_clip_only,discarded_penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,"
     "accuracy_median_m,accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,error";
 
@@ -354,7 +368,8 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
     const auto& g = field(j, "ground_truth");
     // In the order of kResultsCsvHeader.
     const std::pair<const nlohmann::json*, const char*> fields[] = {
-        {&j, "committed_steps"},       {&j, "rewinds"},           {&g, "observed_reachable_percent"},
+        {&j, "committed_steps"},       {&j, "rewinds"},           {&j, "first_translation_step"},
+        {&g, "observed_reachable_percent"},
         {&g, "observed_reachable_m2"}, {&g, "penetrations"},      {&g, "penetrations_in_solid"},
         {&g, "penetrations_outside_world"}, {&g, "penetrations_clip_only"}, {&g, "discarded_penetrations"},
         {&g, "penetration_free_steps"}, {&g, "false_rejections"}, {&g, "missed_collisions"},
@@ -424,8 +439,8 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "are not on the final trajectory, but the agent did commit them).\n\n"
      << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | "
         "of them outside the world | of them in invisible clips | discarded penetrations | rewinds | false rejections | missed collisions | verdict precision | verdict recall | ATE % | accuracy median m | "
-        "completeness % | s / run | frames/s |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "completeness % | s / run | frames/s | left the spawn within " << kSpawnDepartureSteps << " steps % |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : summaries) {
     md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << mean(s.observed_percent) << " | "
        << mean(s.observed_m2) << " | " << mean(s.observed_m2_per_clean_step, 2) << " | " << mean(s.penetrations)
@@ -434,7 +449,7 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
        << " | " << mean(s.missed_collisions) << " | " << ratio(s.verdict_precision) << " | "
        << ratio(s.verdict_recall) << " | " << mean(s.ate_percent, 2) << " | " << mean(s.accuracy_median_m, 3)
        << " | " << mean(s.completeness_percent) << " | " << mean(s.wall_seconds) << " | "
-       << mean(s.frames_per_second) << " |\n";
+       << mean(s.frames_per_second) << " | " << mean(s.left_spawn_percent, 0) << " |\n";
   }
   md << "\nVerdict precision: of the candidates the tests rejected as colliding, the share whose player hull "
         "really enters solid; recall: of the candidates that really enter solid, the share rejected.\n\n"
@@ -467,12 +482,13 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
      << "Top-down maps of every run, one sheet per configuration: ";
   for (const auto& s : summaries) md << "[" << s.config << "](" << plots_prefix << "topdowns_" << s.config << ".png) ";
   md << "\n\n| map | spawn | config | reachable observed % | m2 | committed steps | penetrations | "
-        "of them outside the world | of them in invisible clips | discarded penetrations | rewinds |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "of them outside the world | of them in invisible clips | discarded penetrations | rewinds | "
+        "first translation (step) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     if (!r.ok) {
       md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | failed: " << cell(r.error)
-         << " | | | | | | | |\n";
+         << " | | | | | | | | |\n";
       continue;
     }
     const auto& g = field(r.report, "ground_truth");
@@ -480,7 +496,8 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
        << recorded(g, "observed_reachable_percent", 1) << " | " << recorded(g, "observed_reachable_m2") << " | "
        << recorded(r.report, "committed_steps") << " | " << recorded(g, "penetrations") << " | "
        << recorded(g, "penetrations_outside_world") << " | " << recorded(g, "penetrations_clip_only") << " | "
-       << recorded(g, "discarded_penetrations") << " | " << recorded(r.report, "rewinds") << " |\n";
+       << recorded(g, "discarded_penetrations") << " | " << recorded(r.report, "rewinds") << " | "
+       << firstTranslationCell(r.report) << " |\n";
   }
   return md.str();
 }

@@ -279,9 +279,9 @@ TEST(EvalReport, ResultsCsvKeepsTheRowsOfOtherRuns) {
   const auto lines = rows();
   ASSERT_EQ(lines.size(), 5u);  // header, the 2 reported rows, the 2 other runs' rows
   // Figures the reports do not record are empty cells, not 0.
-  EXPECT_EQ(lines[1].substr(0, 17), "a,1,full,1,,,7,,,");
+  EXPECT_EQ(lines[1].substr(0, 18), "a,1,full,1,,,,7,,,");
   EXPECT_EQ(lines[2].substr(0, 9), "c,0,full,");
-  EXPECT_EQ(lines[3].substr(0, 17), "a,0,full,1,,,5,,,");
+  EXPECT_EQ(lines[3].substr(0, 18), "a,0,full,1,,,,5,,,");
   EXPECT_EQ(lines[4].substr(0, 9), "b,0,full,");
   // A file of another format is kept beside, not merged.
   { std::ofstream(path) << "old,format\n1,2\n"; }
@@ -443,7 +443,7 @@ TEST(EvalReport, MalformedReportsAreFailedRowsWithTheirReason) {
   std::string line;
   std::getline(csv, line);  // header
   std::getline(csv, line);
-  EXPECT_EQ(line.substr(0, line.find('"')), "missing,0,full,0,,,,,,,,,,,,,,,,,,,");  // blank, not 0
+  EXPECT_EQ(line.substr(0, line.find('"')), "missing,0,full,0,,,,,,,,,,,,,,,,,,,,");  // blank, not 0
 }
 
 TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
@@ -480,9 +480,9 @@ TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
   std::vector<std::string> lines;
   for (std::string line; std::getline(csv, line);) lines.push_back(line);
   ASSERT_EQ(lines.size(), 4u);
-  EXPECT_EQ(lines[1], "m,0,full,1,,,,,,,,,,,,,,,,,,,\"\"");
-  EXPECT_EQ(lines[2], "m,1,full,1,,,10,,,,,,,,,,,,,,,,\"\"");
-  EXPECT_EQ(lines[3], "m,2,full,0,,,,,,,,,,,,,,,,,,,\"/o/report.json: field 'x\"\"y|z' is null\"");
+  EXPECT_EQ(lines[1], "m,0,full,1,,,,,,,,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[2], "m,1,full,1,,,,10,,,,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[3], "m,2,full,0,,,,,,,,,,,,,,,,,,,,\"/o/report.json: field 'x\"\"y|z' is null\"");
   // A report of any shape that skipped readEvalResult still does not throw.
   EvalResult odd = bare;
   odd.report = nlohmann::json::array({1, 2});
@@ -520,4 +520,36 @@ TEST(EvalReport, PenetrationsOutsideTheWorldAndInClipsAreAveragedAndListed) {
   const std::string md = markdownReport(s, results, "cmd", "");
   EXPECT_NE(md.find("| m | 0 | full | - | - | - | 6 | 4 | 1 | - | - |"), std::string::npos) << md;
   EXPECT_NE(md.find("| m | 2 | full | - | - | - | 1 | - | - | - | - |"), std::string::npos) << md;
+}
+
+TEST(EvalReport, RunsThatLeaveTheirSpawnWithinFiveSteps) {
+  auto result = [](int spawn, nlohmann::json first_translation_step) {
+    EvalResult r;
+    r.run = {"m", spawn, "full", "/o"};
+    r.ok = true;
+    r.report = {{"rewinds", 0}, {"ground_truth", nlohmann::json::object()}};
+    if (!first_translation_step.is_null()) r.report["first_translation_step"] = first_translation_step;
+    return r;
+  };
+  // Steps 1 and 5 leave within five steps, 6 too late, 0 never; the last report predates
+  // the field and is not counted: 2 of 4 runs, 50 %.
+  const std::vector<EvalResult> results = {result(0, 1), result(1, 5), result(2, 6), result(3, 0),
+                                           result(4, nullptr)};
+  const auto s = summarise(results, {"full"});
+  EXPECT_DOUBLE_EQ(s[0].left_spawn_percent, 50.0);
+  const std::string md = markdownReport(s, results, "cmd", "");
+  EXPECT_NE(md.find("| left the spawn within 5 steps % |"), std::string::npos);
+  EXPECT_NE(md.find("| - | 50 |\n"), std::string::npos) << md;  // frames/s unrecorded, then the share
+  EXPECT_NE(md.find("| m | 1 | full | - | - | - | - | - | - | - | 0 | 5 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| m | 3 | full | - | - | - | - | - | - | - | 0 | none |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 4 | full | - | - | - | - | - | - | - | 0 | - |"), std::string::npos);
+  const std::string path = ::testing::TempDir() + "/valerant_departure_results.csv";
+  std::remove(path.c_str());
+  writeResultsCsv(path, results);
+  std::ifstream csv(path);
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_NE(header.find(",rewinds,first_translation_step,"), std::string::npos);
+  EXPECT_EQ(row.substr(0, 15), "m,0,full,1,,0,1");
 }

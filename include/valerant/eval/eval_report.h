@@ -46,6 +46,9 @@ struct ConfigSummary {
   double ate_percent = -1, accuracy_median_m = -1, completeness_percent = -1, wall_seconds = -1,
          frames_per_second = -1;
   double committed_steps = -1, observed_m2_per_step = -1;  // new reachable area per committed step
+  // Share of the runs that committed a translation within the first kSpawnDepartureSteps
+  // exploration steps (spawn_departure.h), in percent.
+  double left_spawn_percent = -1;
   // Collision verdicts against ground truth ("this candidate would enter solid"), summed
   // over every verdict of every run before dividing (micro average); -1 when undefined.
   double verdict_precision = -1, verdict_recall = -1;
