@@ -1,10 +1,25 @@
 #include "valerant/explore/step_support.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "valerant/explore/body_point_index.h"
 
 namespace valerant {
+
+std::vector<double> eyeSupports(const std::vector<FloorPlane>& samples) {
+  std::vector<double> out;
+  out.reserve(samples.size());
+  if (samples.empty()) return out;
+  const FloorPlane& datum = samples.front();
+  for (const FloorPlane& s : samples) out.push_back(datum.normalisedHeight(s.c) - 1);
+  return out;
+}
+
+double withinAStepOfTheEye(double support, double eye_support, double step_height) {
+  if (!std::isfinite(eye_support)) return support;  // a degenerate datum bounds nothing
+  return std::clamp(support, eye_support - step_height, eye_support + step_height);
+}
 
 std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& points,
                                              const std::vector<FloorPlane>& samples, const CollisionConfig& config,
@@ -22,9 +37,12 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
       positions.push_back(p.position);
     }
   const BodyPointIndex index(positions, samples, *std::min_element(radii.begin(), radii.end()));
+  const std::vector<double> eye_supports = eyeSupports(samples);
   for (size_t r = 0; r < radii.size(); ++r) {
     double support = 0;
-    for (const FloorPlane& s : samples) {
+    for (size_t i = 0; i < samples.size(); ++i) {
+      const FloorPlane& s = samples[i];
+      support = withinAStepOfTheEye(support, eye_supports[i], config.step_height);
       const double step_top = support + config.step_height, body_low = support + config.height_low,
                    body_top = support + config.height_high;
       bool blocked = false;
@@ -41,7 +59,7 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
           any_tread = true;
         }
       });
-      if (!blocked) support = tread;
+      if (!blocked) support = withinAStepOfTheEye(tread, eye_supports[i], config.step_height);
       out[r].counts.push_back(blocked ? band : 0);
       out[r].support.push_back(support);
     }

@@ -4,6 +4,7 @@
 // 50-unit eye is 0.32, the player's 18-unit step 0.36).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -53,6 +54,24 @@ std::vector<HeightedPoint> ledge(double top) {
   return points;
 }
 
+// The samples with each eye one above the floor under it (the engine lifts and drops
+// the camera with the player), floor_z(x) that floor's height.
+template <class FloorZ>
+std::vector<FloorPlane> eyeOver(std::vector<FloorPlane> samples, FloorZ floor_z) {
+  for (FloorPlane& s : samples) {
+    s.q.z() = floor_z(s.c.x());
+    s.c.z() = s.q.z() + 1;
+  }
+  return samples;
+}
+
+// The floor under the staircase(): 0 before the first riser, then the tread of the last
+// riser passed (the landing's 1.6 from x = 2.28).
+double staircaseFloor(double x) {
+  if (x < 1) return 0;
+  return 0.32 * (std::min(4.0, std::floor((x - 1) / 0.32)) + 1);
+}
+
 // Wall points on x = 3, |y| <= 1, z in [0, 2], spaced 0.1 (test_collision.cpp's sparse wall).
 std::vector<HeightedPoint> sparseWall() {
   std::vector<HeightedPoint> points;
@@ -64,7 +83,8 @@ std::vector<HeightedPoint> sparseWall() {
 }  // namespace
 
 TEST(StepSupport, TheSteppedBodyClimbsAStaircaseThePaperCannot) {
-  const auto samples = track(0, 3, 60);  // sample i at x = 0.05 (i + 1)
+  // sample i at x = 0.05 (i + 1), the eye over the tread it stands on
+  const auto samples = eyeOver(track(0, 3, 60), staircaseFloor);
   // The paper: the disc first reaches the first riser at sample 15 (x = 0.8, 0.2 from
   // it: |y| <= 0.064, 5 columns x 4 rows at z 0.20..0.32 = 20); at sample 16 (x = 0.85:
   // |y| <= 0.147, 11 columns x 4 = 44, plus 7 points of the first tread at x = 1.04,
@@ -77,7 +97,8 @@ TEST(StepSupport, TheSteppedBodyClimbsAStaircaseThePaperCannot) {
   // before, so nothing is ever above the step and every count is 0. The support is 0
   // until sample 14 (x = 0.75, nothing within 0.21), the first tread (0.32) from sample
   // 15; at sample 29 (x = 1.5) the disc reaches the riser at 1.64 (0.96); at the end
-  // the landing (1.6).
+  // the landing (1.6). The body leads the eye by one riser (0.32, within the step): at
+  // sample 29 the eye is still over the second tread (0.64).
   const auto climb = detectPointCloudCollision(staircase(), samples, stepped(), false);
   EXPECT_FALSE(climb.collision);
   EXPECT_EQ(climb.occupied_max, 0);
@@ -133,22 +154,76 @@ TEST(StepSupport, ALedgeAboveAStepCollidesOneWithinAStepIsClimbed) {
   EXPECT_NEAR(l.support[31], 0.3, 1e-12);
 }
 
-TEST(StepSupport, TheSupportFallsOffADropAndIgnoresWhatIsAboveTheBody) {
+TEST(StepSupport, TheSupportFallsOffADropWithTheEyeAndIgnoresWhatIsAboveTheBody) {
   // A lower floor at -2 (a drop) from x = 1, and a ceiling at 1.5 over x 0..2: samples
-  // at x = 0.4, 0.8, ..., 2.0. At x = 0.4 the disc holds only the ceiling, over
-  // f + eta_high: nothing counts, the support stays 0; at x = 0.8 the lower floor's
-  // first row (x = 1, 0.2 away) is in the disc and the body falls to it.
+  // at x = 0.4, 0.8, ..., 2.0, the eye falling to the lower floor once past the edge.
+  // At x = 0.4 the disc holds only the ceiling, over f + eta_high: nothing counts, the
+  // support stays 0. At x = 0.8 the lower floor's first row (x = 1, 0.2 away) is in the
+  // disc, but the eye still stands on the upper floor: the body goes down one step
+  // (-0.36). From x = 1.2 the eye is over the lower floor and the body stands on it.
   std::vector<HeightedPoint> points;
   for (int n = 0; n <= 40; ++n)
     for (int j = -4; j <= 4; ++j) {
       points.push_back(at(1 + 0.05 * n, 0.05 * j, -2));
       points.push_back(at(0.05 * n, 0.05 * j, 1.5));
     }
-  const SteppedCounts s = steppedBodyCounts(points, track(0, 2, 5), stepped(), stepped().body_radius);
+  const auto samples = eyeOver(track(0, 2, 5), [](double x) { return x < 1 ? 0.0 : -2.0; });
+  const SteppedCounts s = steppedBodyCounts(points, samples, stepped(), stepped().body_radius);
   EXPECT_EQ(s.counts, (std::vector<int>{0, 0, 0, 0, 0}));
   EXPECT_DOUBLE_EQ(s.support[0], 0.0);
-  EXPECT_DOUBLE_EQ(s.support[1], -2.0);
+  EXPECT_DOUBLE_EQ(s.support[1], -0.36);
+  EXPECT_DOUBLE_EQ(s.support[2], -2.0);
   EXPECT_DOUBLE_EQ(s.support.back(), -2.0);
+}
+
+TEST(StepSupport, TheBodyStaysWithinAStepOfALevelEye) {
+  // A face that rises 0.1 every 0.05 along x from x = 1 (h = 0.1 m at x = 1 + 0.05 m,
+  // m = 0..40; |y| <= 0.5 every 0.05): a wall as a floor fitted 19 degrees off shows
+  // it (oa_dm3 spawn 1). The samples (x = 0.1 (i + 1)) advance 0.1, so the highest point
+  // of each disc is 0.2 over the last one's, within the step: followed alone, the body
+  // would climb it like a ramp and never count. The eye stays level (floor 0), so the
+  // body stands at most 0.36 over it:
+  //   x = 0.9 (i 8): the disc holds h 0, 0.1, 0.2: support 0.2;
+  //   x = 1.0 (i 9): up to 0.4 (x = 1.2), within 0.2 + 0.36: support 0.36, the bound;
+  //   x = 1.1 (i 10): up to 0.6, within 0.72: still 0.36, no count;
+  //   x = 1.2 (i 11): 0.8 (x = 1.4) is over 0.72: blocked; the band 0.54..1.55 holds
+  //     x = 1.3, 1.35, 1.4 at 0.1, 0.15, 0.2 from the axis: 7 + 5 + 3 = 15 points;
+  //   x = 1.3 (i 12): x = 1.3 .. 1.5 at 0 .. 0.2: 9 + 9 + 7 + 5 + 3 = 33;
+  //   x = 1.4 (i 13): x = 1.3 .. 1.6: 7 + 9 + 9 + 9 + 7 + 5 + 3 = 49, the second
+  //     sample in a row at N_occ 30: a collision from sample 12.
+  std::vector<HeightedPoint> points;
+  for (int m = 0; m <= 40; ++m)
+    for (int j = -10; j <= 10; ++j) points.push_back({{1 + 0.05 * m, 0.05 * j, 0.1 * m}, 0.1 * m, 10});
+  const auto samples = track(0, 3, 30);
+  const SteppedCounts s = steppedBodyCounts(points, samples, stepped(), stepped().body_radius);
+  EXPECT_NEAR(s.support[8], 0.2, 1e-12);
+  for (size_t i = 9; i < s.support.size(); ++i) EXPECT_NEAR(s.support[i], 0.36, 1e-12) << i;
+  EXPECT_EQ(s.counts[10], 0);
+  EXPECT_EQ(s.counts[11], 15);
+  EXPECT_EQ(s.counts[12], 33);
+  EXPECT_EQ(s.counts[13], 49);
+  const auto pc = detectPointCloudCollision(points, samples, stepped(), false);
+  EXPECT_TRUE(pc.collision);
+  EXPECT_EQ(pc.sample, 13);
+  EXPECT_EQ(pc.run_start, 12);
+}
+
+TEST(StepSupport, TheEyesFloorIsItsHeightOverTheFirstFloorLessOne) {
+  // The first sample's floor is the datum: z = 0 under an eye 2 above it (kappa 2). An
+  // eye at z 3 stands on a floor 0.5 datum camera heights up; one at z 1, 0.5 down.
+  FloorPlane first;
+  first.q = {0, 0, 0};
+  first.c = {0, 0, 2};
+  FloorPlane up = first, down = first;
+  up.c.z() = 3;
+  down.c.z() = 1;
+  const std::vector<double> e = eyeSupports({first, up, down});
+  EXPECT_EQ(e, (std::vector<double>{0.0, 0.5, -0.5}));
+  EXPECT_TRUE(eyeSupports({}).empty());
+  EXPECT_DOUBLE_EQ(withinAStepOfTheEye(1.0, 0.5, 0.36), 0.86);
+  EXPECT_DOUBLE_EQ(withinAStepOfTheEye(-1.0, 0.5, 0.36), 0.14);
+  EXPECT_DOUBLE_EQ(withinAStepOfTheEye(0.6, 0.5, 0.36), 0.6);
+  EXPECT_DOUBLE_EQ(withinAStepOfTheEye(0.6, std::nan(""), 0.36), 0.6);
 }
 
 TEST(StepSupport, ThePaperSettingKeepsThePapersCounts) {
@@ -168,6 +243,11 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
   SteppedCounts out;
   double support = 0;
   for (const FloorPlane& s : samples) {
+    const double eye = samples.front().normalisedHeight(s.c) - 1;
+    auto withinAStep = [&](double f) {
+      return std::min(std::max(f, eye - config.step_height), eye + config.step_height);
+    };
+    support = withinAStep(support);
     const double kappa = s.cameraHeight();
     bool blocked = false, any_tread = false;
     int band = 0;
@@ -183,7 +263,7 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
         any_tread = true;
       }
     }
-    if (!blocked) support = tread;
+    if (!blocked) support = withinAStep(tread);
     out.counts.push_back(blocked ? band : 0);
     out.support.push_back(support);
   }
@@ -194,8 +274,8 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
 
 // The counts and supports from the index equal the definition's on random terraces
 // (heights in steps of 0.1 up to 2, some points unconfident, one non-finite), walked by
-// tilted axes, at two radii from one index, as the branch check asks for rho and the
-// prefix clearance.
+// tilted axes whose eyes rise and fall (the bound by the eye bites), at two radii from
+// one index, as the branch check asks for rho and the prefix clearance.
 TEST(StepSupport, IndexedCountsEqualTheDefinition) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> uniform(-1, 1);
@@ -209,8 +289,9 @@ TEST(StepSupport, IndexedCountsEqualTheDefinition) {
     }
     points.push_back({{std::nan(""), 0, 0}, 0, 10});
     std::vector<FloorPlane> samples = track(-4, 4, 50);
-    for (FloorPlane& s : samples) {  // tilt each axis a little, as fitted floors are
+    for (FloorPlane& s : samples) {  // tilt each axis a little, as fitted floors are; eyes up and down
       s.n = Eigen::Vector3d(0.05 * uniform(rng), 0.05 * uniform(rng), 1).normalized();
+      s.c.z() += 0.5 * uniform(rng);
       s.q = s.c - s.n;
     }
     const std::vector<double> radii = {0.3, 0.5};

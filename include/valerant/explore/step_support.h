@@ -3,13 +3,16 @@
 // climbs steps. The paper's cylinder stands on the floor, so a stair's riser (0.32 eye
 // heights in Quake III) inside eta_low..eta_high is a wall and no staircase is ever
 // climbed. Here the cylinder stands on a support height f followed along the samples,
-// with s = step_height and D_i the body disc of sample i:
-//   f_0 = 0 (the floor under the branch's start);
-//   blocked_i = some p in D_i has f_{i-1} + s < h(p) <= f_{i-1} + eta_high;
-//   blocked_i:  count_i = #{p in D_i : f_{i-1} + eta_low <= h(p) <= f_{i-1} + eta_high},
-//               f_i = f_{i-1};
+// with s = step_height, D_i the body disc of sample i and e_i = h(c_i) - 1 the floor
+// under the eye (the camera c_i stands one eye height over its feet), clamp_i(x) =
+// min(max(x, e_i - s), e_i + s):
+//   f_{-1} = 0 (the floor under the branch's start);
+//   g_i = clamp_i(f_{i-1}) (the body stands within a step of the eye's floor);
+//   blocked_i = some p in D_i has g_i + s < h(p) <= g_i + eta_high;
+//   blocked_i:  count_i = #{p in D_i : g_i + eta_low <= h(p) <= g_i + eta_high},
+//               f_i = g_i;
 //   otherwise:  count_i = 0,
-//               f_i = the highest h(p) <= f_{i-1} + s in D_i (f_{i-1} if there is none);
+//               f_i = clamp_i(the highest h(p) <= g_i + s in D_i (g_i if there is none));
 // collision from count_i exactly as in the paper (N_occ at two consecutive samples, or
 // N_imm at one). Where everything at body level in the disc lies within a step of the
 // support (a riser, a tread, a ramp, the floor below a drop: f may fall as well as rise)
@@ -18,9 +21,14 @@
 // wall met on the floor gives the paper's counts exactly. A face taller than a step
 // enters the disc at all its heights at once, so its lower part never lifts the body.
 // On a staircase the risers enter the disc one at a time (a tread deeper than the sample
-// spacing), each within a step of the tread before. Heights h(p) must share one datum
-// along the branch (branch_check.h: the branch's first floor), else f is not
-// comparable between points.
+// spacing), each within a step of the tread before, while the eye climbs behind them.
+// The clamp keeps the body where the eye is: without it a face seen from a tilted datum
+// (a floor fitted 19 degrees off) rose a little per sample like a ramp, f climbed it 4 eye
+// heights over a level camera, the wall above the eye's feet passed over the body's head
+// and eq. 6 counted 0 while the camera walked through the wall and out of the level
+// (oa_dm3 spawn 1, 150 steps; docs/pockets.md, "The body within a step of the eye"). Heights h(p) must
+// share one datum along the branch, the first sample's floor (branch_check.h: the
+// branch's first floor), else f is not comparable between points.
 #include <vector>
 
 #include "valerant/config/config.h"
@@ -44,5 +52,12 @@ SteppedCounts steppedBodyCounts(const std::vector<HeightedPoint>& points, const 
 std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& points,
                                              const std::vector<FloorPlane>& samples, const CollisionConfig& config,
                                              const std::vector<double>& radii);
+
+// e_i for every sample: the height of the floor under sample i's eye over the first
+// sample's floor, in that floor's camera heights (h(c_i) - 1; 0 for the first sample).
+std::vector<double> eyeSupports(const std::vector<FloorPlane>& samples);
+// clamp_i: `support` kept within `step_height` of `eye_support` (unchanged where the
+// eye's height is not finite).
+double withinAStepOfTheEye(double support, double eye_support, double step_height);
 
 }  // namespace valerant
