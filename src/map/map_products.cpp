@@ -58,7 +58,10 @@ void insertKeyframe(octomap::ColorOcTree& tree, const FusedKeyframe& keyframe, d
   octomap::Pointcloud cloud;
   for (const auto& p : keyframe.points) cloud.push_back(p.position.x(), p.position.y(), p.position.z());
   const Eigen::Vector3d c = keyframe.camera_to_map.translation();
-  tree.insertPointCloud(cloud, octomap::point3d(c.x(), c.y(), c.z()), max_range, false, true);
+  // lazy_eval: inner nodes are left to updateInnerNodes, once after a batch. Updating
+  // them on every insertion also pruned each node and expanded it again at the next ray
+  // through it: 2.3-2.7 times the time for the same leaf occupancies (docs/outputs.md).
+  tree.insertPointCloud(cloud, octomap::point3d(c.x(), c.y(), c.z()), max_range, true, true);
   for (const auto& p : keyframe.points)
     tree.averageNodeColor(p.position.x(), p.position.y(), p.position.z(), p.rgb[0], p.rgb[1], p.rgb[2]);
 }

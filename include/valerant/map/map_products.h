@@ -46,7 +46,8 @@ class VoxelCloudBuilder {
 };
 
 // Rays from the keyframe's camera centre to each of its points, up to `max_range`,
-// then the points' colours averaged into their leaves.
+// then the points' colours averaged into their leaves. Only leaves are updated (nothing
+// is pruned): call updateInnerNodes after the last keyframe of a batch.
 void insertKeyframe(octomap::ColorOcTree& tree, const FusedKeyframe& keyframe, double max_range);
 
 // Propagates occupancy and colour to the inner nodes. Safe on an empty tree, which
