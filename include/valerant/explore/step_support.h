@@ -26,9 +26,9 @@
 // (a floor fitted 19 degrees off) rose a little per sample like a ramp, f climbed it 4 eye
 // heights over a level camera, the wall above the eye's feet passed over the body's head
 // and eq. 6 counted 0 while the camera walked through the wall and out of the level
-// (oa_dm3 spawn 1, 150 steps; docs/pockets.md, "The body within a step of the eye"). Heights h(p) must
-// share one datum along the branch, the first sample's floor (branch_check.h: the
-// branch's first floor), else f is not comparable between points.
+// (oa_dm3 spawn 1, 150 steps; docs/pockets.md, "The body within a step of the eye").
+// Heights h(p) must share one datum along the branch, the first sample's floor
+// (branch_check.h: the branch's first floor), else f is not comparable between points.
 #include <vector>
 
 #include "valerant/config/config.h"
