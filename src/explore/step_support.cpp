@@ -40,17 +40,26 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
   const std::vector<double> eye_supports = eyeSupports(samples);
   for (size_t r = 0; r < radii.size(); ++r) {
     double support = 0;
+    int unfollowed = 0;  // samples in a row with the body over the eye's floor
     for (size_t i = 0; i < samples.size(); ++i) {
       const FloorPlane& s = samples[i];
-      support = withinAStepOfTheEye(support, eye_supports[i], config.step_height);
+      const double eye = eye_supports[i];
+      support = withinAStepOfTheEye(support, eye, config.step_height);
       const double step_top = support + config.step_height, body_low = support + config.height_low,
                    body_top = support + config.height_high;
+      // The paper's band over the eye's floor, for a climb the eye did not follow.
+      const bool eye_known = std::isfinite(eye);
+      const double eye_low = eye + config.height_low, eye_top = eye + config.height_high;
+      const double top = eye_known ? std::max(body_top, eye_top) : body_top;
       bool blocked = false;
       int band = 0;            // the paper's count over the support
+      int eye_band = 0;        // ... and over the eye's floor
       double tread = support;  // the highest point within a step (the support if none)
       bool any_tread = false;
       index.forEachWithin(s, radii[r], [&](size_t k) {
         const double h = confident[k]->h;
+        if (h > top) return;
+        if (eye_known && h >= eye_low && h <= eye_top) ++eye_band;
         if (h > body_top) return;
         if (h > step_top) blocked = true;
         if (h >= body_low) ++band;
@@ -59,8 +68,10 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
           any_tread = true;
         }
       });
-      if (!blocked) support = withinAStepOfTheEye(tread, eye_supports[i], config.step_height);
-      out[r].counts.push_back(blocked ? band : 0);
+      if (!blocked) support = withinAStepOfTheEye(tread, eye, config.step_height);
+      unfollowed = eye_known && support > eye_low ? unfollowed + 1 : 0;
+      const bool not_climbed = config.climb_lag > 0 && unfollowed > config.climb_lag;
+      out[r].counts.push_back(not_climbed ? eye_band : blocked ? band : 0);
       out[r].support.push_back(support);
     }
   }

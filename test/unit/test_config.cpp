@@ -58,6 +58,7 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_DOUBLE_EQ(c.collision.height_low, 0.18);
   EXPECT_DOUBLE_EQ(c.collision.height_high, 1.19);
   EXPECT_DOUBLE_EQ(c.collision.step_height, 0.0);  // [ours], off: the paper's cylinder
+  EXPECT_EQ(c.collision.climb_lag, 0);               // [ours], off
   EXPECT_DOUBLE_EQ(c.collision.min_confidence, 4.0);
   EXPECT_EQ(c.collision.n_occ, 30);
   EXPECT_EQ(c.collision.n_occ_consecutive, 2);
@@ -374,6 +375,16 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
             "within [collision.height_low, collision.height_high) = [0.18, 1.19)");
   EXPECT_EQ(errorOfOverride("collision.step_height", "0.36"), "");
   EXPECT_EQ(errorOfOverride("collision.step_height", "0.18"), "");
+  EXPECT_EQ(errorOfOverride("collision.climb_lag", "-1"),
+            "--set collision.climb_lag=-1: collision.climb_lag: value -1 outside [0, 100000]");
+  // The climb bound belongs to the stepped body: alone it would silently do nothing.
+  EXPECT_EQ(errorOfOverride("collision.climb_lag", "3"),
+            "--set collision.climb_lag=3: collision.climb_lag: bounds the stepped body's climbs, so it needs "
+            "collision.step_height > 0");
+  ConfigDocument both = ConfigDocument::load(kShipped);
+  both.set("collision.step_height", "0.45", "--set collision.step_height=0.45");
+  both.set("collision.climb_lag", "3", "--set collision.climb_lag=3");
+  EXPECT_EQ(both.parse().collision.climb_lag, 3);
 }
 
 // [ours] A rewind that keeps the map (dead_pocket.keep_map) cannot go with a loop
@@ -405,6 +416,7 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.policy.goal_move, built_in.goal_move);
   EXPECT_EQ(shipped.policy.max_cell_rise, built_in.max_cell_rise);
   EXPECT_EQ(shipped.collision.step_height, CollisionConfig().step_height);
+  EXPECT_EQ(shipped.collision.climb_lag, CollisionConfig().climb_lag);
 }
 
 TEST(Config, LearnedWorldSectionHasTheModelsContractAndRanges) {

@@ -208,6 +208,59 @@ TEST(StepSupport, TheBodyStaysWithinAStepOfALevelEye) {
   EXPECT_EQ(pc.run_start, 12);
 }
 
+TEST(StepSupport, ALedgeTheEyeWasNotLiftedOntoCountsOverTheEyesFloor) {
+  // The whole-level body (rho 0.30, s = 0.45) and a 0.42 ledge (21 units, over the
+  // engine's 18-unit step, so the engine keeps the feet on the floor: the eye stays
+  // level): its face x = 3, z 0..0.40 every 0.05 (9 rows), its top z = 0.42 from x = 3.05;
+  // samples x_i = 5 (i + 1) / 57.
+  CollisionConfig config;
+  config.body_radius = 0.30;
+  config.step_height = 0.45;
+  const auto samples = track(0, 5, 57);
+  // Without the lag the body climbs it: nothing rises over f + 0.45, so nothing counts.
+  const SteppedCounts climbed = steppedBodyCounts(ledge(0.42), samples, config, config.body_radius);
+  EXPECT_NEAR(climbed.support.back(), 0.42, 1e-12);
+  EXPECT_FALSE(detectPointCloudCollision(ledge(0.42), samples, config, false).collision);
+  // L = 3:
+  //   i 30 (x 2.719, 0.281 from the face: |y| <= 0.106, 5 columns): f 0.40 (the face's
+  //     top row), over e + eta_low = 0.18: u 1, count 0;
+  //   i 31 (x 2.807): the top's first rows reach the disc: f 0.42, u 2; i 32: u 3;
+  //   i 33 (x 2.982, 0.018 from the face): u 4 > 3, counted over e = 0: the face's rows
+  //     0.20..0.40 (5) x 11 columns (|y| <= 0.2995) = 55, and the top at x 3.05, 3.10,
+  //     3.15, 3.20, 3.25 (|y| <= 0.292, 0.276, 0.249, 0.207, 0.136) = 11 + 11 + 9 + 9 + 5
+  //     = 45: 100;
+  //   i 34 (x 3.070): the face 5 x 11 = 55, the top x 3.05 .. 3.35 = 11 + 11 + 11 + 11 +
+  //     9 + 7 + 5 = 65: 120, the second in a row at N_occ: a collision from sample 33.
+  config.climb_lag = 3;
+  const SteppedCounts s = steppedBodyCounts(ledge(0.42), samples, config, config.body_radius);
+  EXPECT_DOUBLE_EQ(s.support[29], 0.0);
+  EXPECT_NEAR(s.support[30], 0.40, 1e-12);
+  EXPECT_NEAR(s.support[31], 0.42, 1e-12);
+  for (int i = 0; i <= 32; ++i) EXPECT_EQ(s.counts[i], 0) << i;
+  EXPECT_EQ(s.counts[33], 100);
+  EXPECT_EQ(s.counts[34], 120);
+  const auto pc = detectPointCloudCollision(ledge(0.42), samples, config, false);
+  EXPECT_TRUE(pc.collision);
+  EXPECT_EQ(pc.sample, 34);
+  EXPECT_EQ(pc.run_start, 33);
+}
+
+TEST(StepSupport, AClimbTheEyeFollowsIsNoCollision) {
+  // The staircase again, the eye now lifted as the engine lifts it: onto the highest
+  // tread under the body (here within 0.2 ahead of the axis, so at the sample where the
+  // disc, of radius 0.21, reaches a riser or at the next). The body never stands over the
+  // eye's floor for more than one sample, so with L = 3 it climbs exactly as without.
+  const auto samples = eyeOver(track(0, 3, 60), [](double x) { return staircaseFloor(x + 0.2); });
+  CollisionConfig config = stepped();
+  const SteppedCounts free_climb = steppedBodyCounts(staircase(), samples, config, config.body_radius);
+  config.climb_lag = 3;
+  const SteppedCounts s = steppedBodyCounts(staircase(), samples, config, config.body_radius);
+  EXPECT_EQ(s.support, free_climb.support);
+  EXPECT_EQ(s.counts, std::vector<int>(samples.size(), 0));
+  EXPECT_NEAR(s.support.back(), 1.6, 1e-12);
+  EXPECT_FALSE(detectPointCloudCollision(staircase(), samples, config, false).collision);
+}
+
 TEST(StepSupport, TheEyesFloorIsItsHeightOverTheFirstFloorLessOne) {
   // The first sample's floor is the datum: z = 0 under an eye 2 above it (kappa 2). An
   // eye at z 3 stands on a floor 0.5 datum camera heights up; one at z 1, 0.5 down.
@@ -242,6 +295,7 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
                                   const CollisionConfig& config, double radius) {
   SteppedCounts out;
   double support = 0;
+  int unfollowed = 0;
   for (const FloorPlane& s : samples) {
     const double eye = samples.front().normalisedHeight(s.c) - 1;
     auto withinAStep = [&](double f) {
@@ -250,12 +304,13 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
     support = withinAStep(support);
     const double kappa = s.cameraHeight();
     bool blocked = false, any_tread = false;
-    int band = 0;
+    int band = 0, eye_band = 0;
     double tread = support;
     for (const auto& p : points) {
       if (!(kappa > 0) || p.confidence < config.min_confidence || !p.position.allFinite()) continue;
-      if (p.h > support + config.height_high || s.axisDistanceSquared(p.position) > radius * radius * kappa * kappa)
-        continue;
+      if (s.axisDistanceSquared(p.position) > radius * radius * kappa * kappa) continue;
+      if (p.h >= eye + config.height_low && p.h <= eye + config.height_high) ++eye_band;
+      if (p.h > support + config.height_high) continue;
       if (p.h > support + config.step_height) blocked = true;
       if (p.h >= support + config.height_low) ++band;
       if (p.h <= support + config.step_height) {
@@ -264,7 +319,9 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
       }
     }
     if (!blocked) support = withinAStep(tread);
-    out.counts.push_back(blocked ? band : 0);
+    unfollowed = support > eye + config.height_low ? unfollowed + 1 : 0;
+    const bool not_climbed = config.climb_lag > 0 && unfollowed > config.climb_lag;
+    out.counts.push_back(not_climbed ? eye_band : blocked ? band : 0);
     out.support.push_back(support);
   }
   return out;
@@ -275,12 +332,15 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
 // The counts and supports from the index equal the definition's on random terraces
 // (heights in steps of 0.1 up to 2, some points unconfident, one non-finite), walked by
 // tilted axes whose eyes rise and fall (the bound by the eye bites), at two radii from
-// one index, as the branch check asks for rho and the prefix clearance.
+// one index, as the branch check asks for rho and the prefix clearance; half the trials
+// with the climb lag (L = 2), which the rising terraces and wandering eyes set off.
 TEST(StepSupport, IndexedCountsEqualTheDefinition) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> uniform(-1, 1);
-  const CollisionConfig config = stepped();
+  int lag_changed = 0;  // lagged trials whose counts differ from the same walk without the lag
   for (int trial = 0; trial < 10; ++trial) {
+    CollisionConfig config = stepped();
+    config.climb_lag = trial % 2 ? 2 : 0;
     std::vector<HeightedPoint> points;
     for (int i = 0; i < 3000; ++i) {
       const double x = 4 * uniform(rng), y = 2 * uniform(rng);
@@ -301,5 +361,8 @@ TEST(StepSupport, IndexedCountsEqualTheDefinition) {
       EXPECT_EQ(indexed[r].counts, expected.counts) << "trial " << trial << " radius " << radii[r];
       EXPECT_EQ(indexed[r].support, expected.support) << "trial " << trial << " radius " << radii[r];
     }
+    if (config.climb_lag > 0 && indexed[0].counts != steppedBodyCounts(points, samples, stepped(), radii[0]).counts)
+      ++lag_changed;
   }
+  EXPECT_GT(lag_changed, 0);
 }

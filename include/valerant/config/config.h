@@ -131,6 +131,12 @@ struct CollisionConfig {
   // 0.36, 0.45 with room for a floor fitted a tread off), riding on a support height
   // followed along the samples (step_support.h); 0 or within [height_low, height_high).
   double step_height = 0;
+  // [ours] > 0, with step_height: the body may stand more than height_low over the floor
+  // under the eye for at most this many samples in a row; after that the eye has not
+  // followed a climb (the world did not lift the camera: a ledge above the player's step),
+  // and the disc is counted as the paper counts it over the eye's floor (step_support.h).
+  // 0 = off.
+  int climb_lag = 0;
   double min_confidence = 4.0;
   int n_occ = 30;
   int n_occ_consecutive = 2;

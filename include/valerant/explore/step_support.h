@@ -13,20 +13,32 @@
 //               f_i = g_i;
 //   otherwise:  count_i = 0,
 //               f_i = clamp_i(the highest h(p) <= g_i + s in D_i (g_i if there is none));
-// collision from count_i exactly as in the paper (N_occ at two consecutive samples, or
-// N_imm at one). Where everything at body level in the disc lies within a step of the
-// support (a riser, a tread, a ramp, the floor below a drop: f may fall as well as rise)
-// the body steps onto its top; where anything rises above the step (a wall, a ledge
-// taller than a step) the disc is counted as the paper counts it, over the support, so a
-// wall met on the floor gives the paper's counts exactly. A face taller than a step
-// enters the disc at all its heights at once, so its lower part never lifts the body.
-// On a staircase the risers enter the disc one at a time (a tread deeper than the sample
-// spacing), each within a step of the tread before, while the eye climbs behind them.
+// and, with collision.climb_lag L > 0, u_i = u_{i-1} + 1 where f_i > e_i + eta_low (u_i = 0
+// elsewhere, u_{-1} = 0): where u_i > L the body has stood over the eye's floor for more
+// than L samples, the world did not lift the camera onto what the body climbed (a ledge
+// over the player's step: the engine keeps the feet on the floor and the hull sinks into
+// the ledge), and count_i = #{p in D_i : e_i + eta_low <= h(p) <= e_i + eta_high}, the
+// paper's count over the eye's floor; collision from count_i exactly as in the paper
+// (N_occ at two consecutive samples, or N_imm at one). Where everything at body level in
+// the disc lies within a step of the support (a riser, a tread, a ramp, the floor below
+// a drop: f may fall as well as rise) the body steps onto its top; where anything rises
+// above the step (a wall, a ledge taller than a step) the disc is counted as the paper
+// counts it, over the support, so a wall met on the floor gives the paper's counts
+// exactly. A face taller than a step enters the disc at all its heights at once, so its
+// lower part never lifts the body. On a staircase the risers enter the disc one at a
+// time (a tread deeper than the sample spacing), each within a step of the tread before,
+// while the eye climbs behind them.
 // The clamp keeps the body where the eye is: without it a face seen from a tilted datum
 // (a floor fitted 19 degrees off) rose a little per sample like a ramp, f climbed it 4 eye
 // heights over a level camera, the wall above the eye's feet passed over the body's head
 // and eq. 6 counted 0 while the camera walked through the wall and out of the level
 // (oa_dm3 spawn 1, 150 steps; docs/pockets.md, "The body within a step of the eye").
+// The climb lag: a camera is carried by its body, so where the body climbs the eye
+// follows within a few samples (in Quake III at once: the hull box and the disc reach a
+// riser together, and the engine lifts the camera onto the highest floor under the box).
+// Without it a 21-unit ledge, over the engine's 18-unit step but within s = 0.45, was
+// climbed by the body while the camera walked on with its feet 21 units deep in the slab
+// for 140 steps (hydronex spawn 1; docs/pockets.md).
 // Heights h(p) must share one datum along the branch, the first sample's floor
 // (branch_check.h: the branch's first floor), else f is not comparable between points.
 #include <vector>
