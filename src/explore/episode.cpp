@@ -194,7 +194,14 @@ StepRecord Episode::step() {
   record.drop = signals.drop;
   release(rewinder_.recordStep(record.checkpoint, start_cell, record.chosen >= 0, rotation_only, cells, signals));
   if (const auto decision = rewinder_.check()) rewind(*decision, record);
-  stuck_ = record.chosen < 0 && !record.rewind && !rewinder_.canRewindLater();
+  // [ours] No rewind can follow this pocket, or this stall: the cells earlier rewinds
+  // walled off may be all that holds the agent (docs/pockets.md), so F is forgotten and
+  // the next step judges its candidates without it; only a stall that forgot nothing is
+  // final.
+  const bool stall_without_way_back = record.chosen < 0 && !record.rewind && !rewinder_.canRewindLater();
+  if (config_.dead_pocket.forget_failed_when_trapped && (rewinder_.trapped() || stall_without_way_back))
+    record.failed_forgotten = static_cast<int>(failed_.forget());
+  stuck_ = stall_without_way_back && record.failed_forgotten == 0;
   record.map_keyframes = map_.marker();
   record.committed_steps = committed_steps_;
   record.wall_seconds = secondsSince(step_start);

@@ -63,6 +63,7 @@ nlohmann::json toJson(const StepRecord& r) {
           {"rewind_stagnant", r.rewind_stagnant},
           {"rewind_to", r.rewind_to},
           {"discarded_steps", r.discarded_steps},
+          {"failed_forgotten", r.failed_forgotten},
           {"new_floor_cells", r.new_floor_cells},
           {"drop", r.drop},
           {"seconds", toJson(r.seconds)},

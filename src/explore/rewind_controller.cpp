@@ -56,11 +56,13 @@ void RewindController::releaseAll(std::vector<uint64_t>& released) {
   steps_.clear();
 }
 
+bool RewindController::pocketDeclared() const {
+  return stalled_ >= config_.rotation_only_steps || (config_.stagnant_steps > 0 && stagnant_ >= config_.stagnant_steps);
+}
+
 std::optional<RewindDecision> RewindController::check() {
-  if (!rewindsLeft()) return std::nullopt;
+  if (!rewindsLeft() || !pocketDeclared()) return std::nullopt;
   const bool rotations = stalled_ >= config_.rotation_only_steps;
-  const bool stagnant = config_.stagnant_steps > 0 && stagnant_ >= config_.stagnant_steps;
-  if (!rotations && !stagnant) return std::nullopt;
   // The most recent anchor: the last translational step, whose checkpoint is always held.
   auto anchor = std::find_if(steps_.rbegin(), steps_.rend(), [](const Step& s) { return s.held; });
   if (anchor == steps_.rend()) return std::nullopt;

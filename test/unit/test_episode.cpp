@@ -176,6 +176,106 @@ TEST(Episode, AStallWithNoRewindLeftEndsTheEpisode) {
   EXPECT_EQ(episode.committedSteps(), 0);
 }
 
+namespace {
+
+// Commits the candidate named by the script at each step (admissible or not), so a test
+// can walk the agent into a given state of the rewind controller.
+struct ScriptedSelector : BranchSelector {
+  explicit ScriptedSelector(std::vector<std::string> names) : script(std::move(names)) {}
+  std::vector<std::string> script;
+  size_t step = 0;  // advanced by the test between steps: one step may select several times
+  int select(std::vector<BranchVerdict>& verdicts, uint64_t) override {
+    for (size_t i = 0; i < verdicts.size(); ++i)
+      if (verdicts[i].candidate == script.at(step)) return static_cast<int>(i);
+    return -1;
+  }
+};
+
+struct TrappedRun {
+  std::vector<StepRecord> records;
+  size_t failed_after_rewind = 0, failed_after_trap = 0;
+  bool uw_entered_failed_when_trapped = false;
+  bool stuck = false;
+};
+
+// Runs `script` (a name that is no candidate stalls) with the dead-pocket rule at
+// `rotation_only_steps`; the step at `rewinding_step` (0-based) must rewind.
+TrappedRun trappedRun(bool forget, const std::vector<std::string>& names, int rotation_only_steps,
+                      size_t rewinding_step) {
+  Config config = smallConfig(10);
+  config.dead_pocket.rotation_only_steps = rotation_only_steps;
+  config.dead_pocket.max_rewinds = 25;
+  config.dead_pocket.forget_failed_when_trapped = forget;
+  auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+  quake3::Quake3World world(map, config);
+  LocalBranchPipeline pipeline(world.intrinsics(), config);
+  ScriptedSelector script(names);
+  Episode episode(world, pipeline, script, config);
+  TrappedRun run;
+  for (; script.step < script.script.size() && !episode.finished(); ++script.step) {
+    run.records.push_back(episode.step());
+    if (script.step == rewinding_step) run.failed_after_rewind = episode.failed().cells().size();
+  }
+  run.failed_after_trap = episode.failed().cells().size();
+  for (const CandidateRecord& c : run.records.back().candidates)
+    if (c.verdict.candidate == "uw") run.uw_entered_failed_when_trapped = c.verdict.enters_failed;
+  run.stuck = episode.stuck();
+  return run;
+}
+
+}  // namespace
+
+// [ours] dead_pocket.forget_failed_when_trapped: back at the anchor with no anchor left,
+// the way uw walked before the rewind is in F; the paper keeps F (and the agent turns in
+// place to the end of its budget, docs/pockets.md), the option forgets it once the pocket
+// is declared.
+TEST(Episode, APocketNoRewindCanFollowForgetsTheFailedRegion) {
+  VALERANT_REQUIRE_OPENARENA();
+  // uw, then jq (with rotation_only_steps 1 a pocket: rewound to before uw, whose cells
+  // go into F, and the only anchor is consumed), then jq again: a pocket no rewind can
+  // follow.
+  for (const bool forget : {false, true}) {
+    const TrappedRun run = trappedRun(forget, {"uw", "jq", "jq"}, 1, 1);
+    ASSERT_EQ(run.records.size(), 3u);
+    EXPECT_FALSE(run.records[0].rewind);
+    EXPECT_TRUE(run.records[1].rewind) << "forget " << forget;
+    EXPECT_GT(run.failed_after_rewind, 0u);
+    EXPECT_FALSE(run.records[2].rewind);  // no anchor held
+    EXPECT_TRUE(run.uw_entered_failed_when_trapped);  // judged before the pocket was declared
+    EXPECT_EQ(run.records[1].failed_forgotten, 0);    // a rewound pocket forgets nothing
+    if (forget) {
+      EXPECT_EQ(run.records[2].failed_forgotten, static_cast<int>(run.failed_after_rewind));
+      EXPECT_EQ(run.failed_after_trap, 0u);
+    } else {
+      EXPECT_EQ(run.records[2].failed_forgotten, 0);
+      EXPECT_EQ(run.failed_after_trap, run.failed_after_rewind);
+    }
+  }
+}
+
+// [ours] The same for a stall with no rewind to follow it (before the pocket is declared:
+// rotation_only_steps 2, so uw, jq, jq rewinds and the stall after it is the first step
+// of a new count): the paper's episode ends "stuck" there; with the option F is forgotten
+// and the stall is not final.
+TEST(Episode, AStallNoRewindCanFollowForgetsTheFailedRegionInsteadOfEnding) {
+  VALERANT_REQUIRE_OPENARENA();
+  for (const bool forget : {false, true}) {
+    const TrappedRun run = trappedRun(forget, {"uw", "jq", "jq", "stall", "jq"}, 2, 2);
+    EXPECT_TRUE(run.records[2].rewind);
+    EXPECT_GT(run.failed_after_rewind, 0u);
+    ASSERT_GE(run.records.size(), 4u);
+    EXPECT_LT(run.records[3].chosen, 0);  // the stall
+    if (forget) {
+      EXPECT_EQ(run.records[3].failed_forgotten, static_cast<int>(run.failed_after_rewind));
+      EXPECT_EQ(run.records.size(), 5u);  // it went on
+      EXPECT_FALSE(run.stuck);
+    } else {
+      EXPECT_EQ(run.records.size(), 4u);
+      EXPECT_TRUE(run.stuck);
+    }
+  }
+}
+
 // oa_dm4 spawn 0 faces a wall within one forward action: every full translation enters
 // solid (ground truth), so the step judges their clean prefixes too and commits one
 // that moves and stays out of solid. Without prefixes the same step only turns.

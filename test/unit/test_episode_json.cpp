@@ -54,4 +54,7 @@ TEST(EpisodeJson, PocketSignalsAndStagnantRewinds) {
   EXPECT_EQ(j["rewind_stagnant"], true);
   EXPECT_EQ(j["rewind_to"], 12);
   EXPECT_EQ(toJson(StepRecord{})["rewind_stagnant"], false);
+  record.failed_forgotten = 9;
+  EXPECT_EQ(toJson(record)["failed_forgotten"], 9);
+  EXPECT_EQ(toJson(StepRecord{})["failed_forgotten"], 0);
 }

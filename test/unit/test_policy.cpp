@@ -255,6 +255,43 @@ TEST(RewindController, CanRewindLaterNeedsAnAnchor) {
   EXPECT_FALSE(off.canRewindLater());
 }
 
+// [ours] trapped(): a dead pocket is declared and no rewind can follow it, either because
+// a rewind consumed the last anchor (rewinds left, none held: the 150-step runs' end,
+// docs/pockets.md) or because the rewinds are spent. A pocket with an anchor held is
+// rewound, not trapped, and fewer turns than rotation_only_steps declare nothing.
+TEST(RewindController, APocketNoRewindCanFollowIsTrapped) {
+  DeadPocketConfig config;
+  config.max_rewinds = 25;
+  RewindController r(config);
+  r.recordStep(1, {64, 64}, true, false, {{64, 64}, {65, 64}});  // the only anchor
+  for (uint64_t id = 2; id <= 4; ++id) r.recordStep(id, {65, 64}, true, true, {{65, 64}});
+  EXPECT_FALSE(r.trapped());  // a pocket, but anchor 1 is held
+  const auto d = r.check();
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->checkpoint, 1u);
+  r.apply(*d);
+  EXPECT_FALSE(r.canRewindLater());  // 24 rewinds left, no anchor
+  r.recordStep(5, {64, 64}, true, true, {{64, 64}});
+  r.recordStep(6, {64, 64}, true, true, {{64, 64}});
+  EXPECT_FALSE(r.trapped());  // two turns: no pocket yet
+  r.recordStep(7, {64, 64}, false, false, {});  // a stall counts as in the paper's rule
+  EXPECT_TRUE(r.trapped());
+  EXPECT_FALSE(r.check());
+  r.recordStep(8, {64, 64}, true, false, {{64, 64}, {63, 64}});  // out: a new anchor
+  EXPECT_FALSE(r.trapped());
+  EXPECT_TRUE(r.canRewindLater());
+  // Spent rewinds: the paper's two, then three turns.
+  RewindController spent(DeadPocketConfig{});
+  uint64_t id = 1;
+  for (int rewind = 0; rewind < 2; ++rewind) {
+    spent.recordStep(id++, {64, 64}, true, false, {{64, 64}, {65, 64}});
+    for (int k = 0; k < 3; ++k) spent.recordStep(id++, {65, 64}, true, true, {{65, 64}});
+    spent.apply(*spent.check());
+  }
+  for (int k = 0; k < 3; ++k) spent.recordStep(id++, {65, 64}, true, true, {{65, 64}});
+  EXPECT_TRUE(spent.trapped());
+}
+
 TEST(RewindController, DisabledNeverRewinds) {
   DeadPocketConfig config;
   config.enabled = false;

@@ -185,6 +185,12 @@ struct DeadPocketConfig {
   // observed stays observed) and rewinds only the agent: world, SLAM, trajectory.
   // false = the paper: the map is truncated to the anchor's.
   bool keep_map = false;
+  // [ours] A dead pocket, or a stall, that no rewind can follow (no rewind left, or no
+  // anchor held: rewinds consumed them all) forgets F, the failed-region memory, so the
+  // agent can walk out through the cells earlier rewinds walled off (rewind_controller.h
+  // trapped(), docs/pockets.md). false = the paper: F is kept, the agent turns in place,
+  // and such a stall ends the episode.
+  bool forget_failed_when_trapped = false;
 };
 
 struct MapConfig {

@@ -61,6 +61,7 @@ struct StepRecord {
   int committed_steps = 0;     // committed steps of the kept path after the step (a rewind lowers it)
   int new_floor_cells = 0;     // coverage-grid floor cells the step observed first
   bool drop = false;           // a committed translation that ended dead_pocket.drop_height or more below its start
+  int failed_forgotten = 0;    // [ours] cells of F forgotten after the step (dead_pocket.forget_failed_when_trapped)
   StageSeconds seconds;
   double wall_seconds = 0;
 };

@@ -24,6 +24,12 @@ class FailedRegionMemory {
     return false;
   }
   const std::set<Cell>& cells() const { return cells_; }
+  // [ours] Forgets every cell (dead_pocket.forget_failed_when_trapped); returns how many.
+  size_t forget() {
+    const size_t n = cells_.size();
+    cells_.clear();
+    return n;
+  }
 
  private:
   std::set<Cell> cells_;

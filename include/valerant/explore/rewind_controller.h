@@ -33,6 +33,12 @@
 // tens of MB), though their steps' cells are kept for F: at most 2 checkpoints_kept + 1
 // checkpoints are held. Every cell the discarded steps passed through goes into F, the
 // drop's own path too, so the agent does not walk off the same ledge again.
+//
+// [ours] Trapped: a dead pocket is declared that no rewind can follow (no rewind left, or
+// rewinds left but no anchor held: each rewind consumes its anchor, and in a pocket met
+// again and again they all go). In the 150-step runs most episodes ended so, turning in
+// place for tens of steps with every translation colliding or entering F
+// (docs/pockets.md); with dead_pocket.forget_failed_when_trapped the Episode then forgets F.
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -77,6 +83,8 @@ class RewindController {
   // Whether a dead pocket could still be rewound out of: enabled, rewinds left and an
   // anchor retained. A stall without that changes nothing, so nothing can follow it.
   bool canRewindLater() const;
+  // A dead pocket is declared (by either rule) that no rewind can follow.
+  bool trapped() const { return pocketDeclared() && !canRewindLater(); }
   int rewinds() const { return rewinds_; }
   int stalledSteps() const { return stalled_; }
   int stagnantSteps() const { return stagnant_; }
@@ -95,6 +103,7 @@ class RewindController {
   // The rewind to the step at `anchor` (held): every step from it on is discarded.
   RewindDecision rewindTo(std::deque<Step>::const_iterator anchor) const;
   bool rewindsLeft() const { return config_.enabled && rewinds_ < config_.max_rewinds; }
+  bool pocketDeclared() const;
   // No rewind can follow: releases every anchor and forgets the steps.
   void releaseAll(std::vector<uint64_t>& released);
   DeadPocketConfig config_;
