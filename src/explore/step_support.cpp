@@ -47,10 +47,12 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
       support = withinAStepOfTheEye(support, eye, config.step_height);
       const double step_top = support + config.step_height, body_low = support + config.height_low,
                    body_top = support + config.height_high;
-      // The paper's band over the eye's floor, for a climb the eye did not follow.
+      // The paper's band over the eye's floor, for a climb the eye did not follow; only
+      // counted (and the search only widened to it) when the lag is on.
       const bool eye_known = std::isfinite(eye);
+      const bool eye_counted = config.climb_lag > 0 && eye_known;
       const double eye_low = eye + config.height_low, eye_top = eye + config.height_high;
-      const double top = eye_known ? std::max(body_top, eye_top) : body_top;
+      const double top = eye_counted ? std::max(body_top, eye_top) : body_top;
       bool blocked = false;
       int band = 0;            // the paper's count over the support
       int eye_band = 0;        // ... and over the eye's floor
@@ -59,7 +61,7 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
       index.forEachWithin(s, radii[r], [&](size_t k) {
         const double h = confident[k]->h;
         if (h > top) return;
-        if (eye_known && h >= eye_low && h <= eye_top) ++eye_band;
+        if (eye_counted && h >= eye_low && h <= eye_top) ++eye_band;
         if (h > body_top) return;
         if (h > step_top) blocked = true;
         if (h >= body_low) ++band;
@@ -69,7 +71,7 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
         }
       });
       if (!blocked) support = withinAStepOfTheEye(tread, eye, config.step_height);
-      unfollowed = eye_known && support > eye_low ? unfollowed + 1 : 0;
+      unfollowed = eye_counted && support > eye_low ? unfollowed + 1 : 0;
       const bool not_climbed = config.climb_lag > 0 && unfollowed > config.climb_lag;
       out[r].counts.push_back(not_climbed ? eye_band : blocked ? band : 0);
       out[r].support.push_back(support);
