@@ -29,6 +29,7 @@ import pack_parts
 import train_depth
 from valerant_learn.depth_net import ColumnContext, DepthNet, GlobalContext, count_parameters, scaled_channels
 from valerant_learn.floor_prior import floor_log_depth
+from valerant_learn.frame_size import parse_size, resize_frames
 from valerant_learn.junit import run_smoke_test
 from valerant_learn.log16 import decode_log16, encode_log16
 from valerant_learn.losses import decoupled_loss, gradient_matching_loss, laplace_nll, training_loss
@@ -46,14 +47,21 @@ CAMERA = {"fx": 64.0, "fy": 64.0, "cx": 63.5, "cy": 47.5, "depth_min_m": 0.05, "
 TRAIN_MAP, VAL_MAP, SELECT_MAP = "synth_train", "synth_val", "synth_select"
 
 
-def synthetic_frame(rng):
+def scaled_camera(scale):
+    """CAMERA for frames of scale x WIDTH x HEIGHT (the same field of view)."""
+    return dict(CAMERA, **{key: CAMERA[key] * scale for key in ("fx", "fy")},
+                **{key: (CAMERA[key] + 0.5) * scale - 0.5 for key in ("cx", "cy")})
+
+
+def synthetic_frame(rng, scale=1):
     """A level camera at eye height over a checkered floor, facing a striped wall
-    at a random distance and of random height, sky above it. Floor depth follows
-    from the fixed eye height: z = h * fy / (v - cy)."""
-    u = np.arange(WIDTH)[None, :] - CAMERA["cx"]
-    v = np.arange(HEIGHT)[:, None] - CAMERA["cy"]
-    down = np.broadcast_to(v / CAMERA["fy"], (HEIGHT, WIDTH))
-    right = np.broadcast_to(u / CAMERA["fx"], (HEIGHT, WIDTH))
+    at a random distance and of random height, sky above it, in a frame of scale x
+    WIDTH x HEIGHT. Floor depth follows from the fixed eye height: z = h * fy / (v - cy)."""
+    camera, width, height = scaled_camera(scale), WIDTH * scale, HEIGHT * scale
+    u = np.arange(width)[None, :] - camera["cx"]
+    v = np.arange(height)[:, None] - camera["cy"]
+    down = np.broadcast_to(v / camera["fy"], (height, width))
+    right = np.broadcast_to(u / camera["fx"], (height, width))
     wall_m, wall_height_m = rng.uniform(4, 30), rng.uniform(1, 8)
     with np.errstate(divide="ignore"):
         floor = np.where(down > 0, EYE_HEIGHT_M / down, np.inf)
@@ -71,11 +79,11 @@ def synthetic_frame(rng):
     return (rgb * 255).astype(np.uint8), depth.astype(np.float32)
 
 
-def synthetic_shard(path, map_name, count, seed):
+def synthetic_shard(path, map_name, count, seed, scale=1):
     rng = np.random.default_rng(seed)
     frames, rgbs, depths = [], [], []
     for index in range(count):
-        rgb, depth = synthetic_frame(rng)
+        rgb, depth = synthetic_frame(rng, scale)
         rgbs.append(rgb)
         depths.append(depth)
         kind = ("rollout", "rotate", "walk")[index % 3]
@@ -83,7 +91,7 @@ def synthetic_shard(path, map_name, count, seed):
                        "key": "" if index % 4 == 0 else {"rollout": "w", "rotate": "l", "walk": "jw"}[kind],
                        "x": 0.5 * index, "y": 0.0, "z": EYE_HEIGHT_M, "yaw_deg": 10.0 * index,
                        "pitch_deg": 0.0, "in_solid": 0})
-    write_shard(path, np.stack(rgbs), np.stack(depths), frames, CAMERA)
+    write_shard(path, np.stack(rgbs), np.stack(depths), frames, scaled_camera(scale))
 
 
 def rewrite_zip(source, target, changes):
@@ -96,7 +104,7 @@ def rewrite_zip(source, target, changes):
 
 
 def setUpModule():
-    global WORK, TRAIN_SHARD, VAL_SHARD, SELECT_SHARD
+    global WORK, TRAIN_SHARD, VAL_SHARD, SELECT_SHARD, TRAIN_SHARD_X2, VAL_SHARD_X2
     WORK = tempfile.mkdtemp(prefix="valerant_learn_smoke_")
     TRAIN_SHARD = os.path.join(WORK, "train.zip")
     VAL_SHARD = os.path.join(WORK, "val.zip")
@@ -104,6 +112,11 @@ def setUpModule():
     synthetic_shard(TRAIN_SHARD, TRAIN_MAP, 24, seed=1)
     synthetic_shard(VAL_SHARD, VAL_MAP, 8, seed=2)
     synthetic_shard(SELECT_SHARD, SELECT_MAP, 6, seed=4)
+    # The same scenes rendered at twice the size, for nets that read frames larger than their output.
+    TRAIN_SHARD_X2 = os.path.join(WORK, "train_x2.zip")
+    VAL_SHARD_X2 = os.path.join(WORK, "val_x2.zip")
+    synthetic_shard(TRAIN_SHARD_X2, TRAIN_MAP, 24, seed=1, scale=2)
+    synthetic_shard(VAL_SHARD_X2, VAL_MAP, 8, seed=2, scale=2)
 
 
 def tearDownModule():
@@ -318,6 +331,61 @@ class WidthMultiplierTest(unittest.TestCase):
         for multiplier in (0.0, -1.0, float("nan")):
             with self.assertRaisesRegex(ValueError, "positive width multiplier"):
                 DepthNet(HEIGHT, WIDTH, width_multiplier=multiplier)
+
+
+class InputScaleTest(unittest.TestCase):
+    def test_reads_twice_the_size_and_outputs_the_same(self):
+        net = DepthNet(HEIGHT, WIDTH, input_scale=2).eval()
+        self.assertEqual((net.input_width, net.input_height), (2 * WIDTH, 2 * HEIGHT))
+        with torch.no_grad():
+            self.assertEqual(tuple(net(torch.rand(1, 3, 2 * HEIGHT, 2 * WIDTH)).shape), (1, 2, HEIGHT, WIDTH))
+        # The stem's conv reads the input stem's 16 features and 2 coordinates instead of RGB and 2.
+        self.assertEqual((net.input_stem.conv[0].in_channels, net.stem[0].in_channels), (5, 18))
+        # The last decoder stage's depthwise conv sees the upsampled 24 channels and the 16 of the skip.
+        self.assertEqual(net.decoder[-1].conv[0][0].in_channels, 24 + 16)
+        with self.assertRaisesRegex(ValueError, "input scale among"):
+            DepthNet(HEIGHT, WIDTH, input_scale=3)
+
+
+class FrameSizeTest(unittest.TestCase):
+    def data(self):
+        # Two frames of 4 x 2: colour rising along each row, depth its column index + 1 (the
+        # second frame's first pixel sky).
+        rgb = np.stack([np.tile(np.arange(0, 80, 20, dtype=np.uint8)[None, :, None], (2, 1, 3))] * 2)
+        depth = np.tile(np.arange(1, 5, dtype=np.float32), (2, 2, 1))
+        depth[1, 0, 0] = np.nan
+        meta = {"width": 4, "height": 2, "fx": 2.0, "fy": 2.0, "cx": 2.0, "cy": 1.0}
+        return {"rgb": rgb, "depth": depth, "map": np.array(["a", "b"]), "meta": meta}
+
+    def test_hand_worked_halving(self):
+        out = resize_frames(self.data(), (2, 1), 1)
+        # Colour: each 2 x 2 block's mean, (0 + 20) / 2 = 10 and (40 + 60) / 2 = 50.
+        self.assertEqual(out["rgb"][0, :, :, 0].tolist(), [[10, 50]])
+        # Depth: the block's first pixel (columns 0 and 2), sky kept as sky.
+        self.assertEqual(out["depth"][0].tolist(), [[1.0, 3.0]])
+        self.assertTrue(np.isnan(out["depth"][1, 0, 0]))
+        self.assertEqual({key: out["meta"][key] for key in ("width", "height", "fx", "fy", "cx", "cy")},
+                         {"width": 2, "height": 1, "fx": 1.0, "fy": 1.0, "cx": 1.0, "cy": 0.5})
+        self.assertEqual(out["map"].tolist(), ["a", "b"])
+
+    def test_input_scale_keeps_the_colour(self):
+        data = self.data()
+        out = resize_frames(data, (2, 1), 2)
+        self.assertIs(out["rgb"], data["rgb"])
+        self.assertEqual(out["depth"].shape, (2, 1, 2))
+        self.assertIs(resize_frames(data, (4, 2), 1), data)
+
+    def test_refused_sizes(self):
+        with self.assertRaisesRegex(ValueError, "the val shards are 4x2: too small for a net input of 8x4"):
+            resize_frames(self.data(), (4, 2), 2, "the val shards")
+        with self.assertRaisesRegex(ValueError, "an output of 2x2 has another aspect ratio"):
+            resize_frames(self.data(), (2, 2), 1)
+
+    def test_parse_size(self):
+        self.assertEqual(parse_size("128x96"), (128, 96))
+        for bad in ("128", "ax96", "0x96", "128x96x3"):
+            with self.assertRaisesRegex(ValueError, "size '%s'" % bad):
+                parse_size(bad)
 
 
 class PackPartsTest(unittest.TestCase):
@@ -577,17 +645,34 @@ class TrainDepthTest(unittest.TestCase):
         self.assertEqual((metrics["keep"], metrics["kept_step"], metrics["steps"]), ("last", 5, 5))
         self.assertIn(metrics["best_step"], (3, 5))
 
+    def test_end_to_end_input_scale_2(self):
+        # 256 x 192 shards: the net reads them as they are and outputs 128 x 96.
+        metrics = self.train_and_check("run_x2", ["--input-scale", "2", "--column-context"],
+                                       train=TRAIN_SHARD_X2, val=VAL_SHARD_X2)
+        self.assertEqual((metrics["input_width"], metrics["input_height"], metrics["output_width"],
+                          metrics["output_height"], metrics["input_scale"]), (256, 192, 128, 96, 2))
+        self.assertEqual(metrics["parameters"],
+                         count_parameters(DepthNet(HEIGHT, WIDTH, column_context=True, input_scale=2)))
+
+    def test_end_to_end_shards_read_smaller(self):
+        # The same 256 x 192 shards read by a net of 128 x 96 in and out.
+        metrics = self.train_and_check("run_x2_small", ["--output-size", "128x96"],
+                                       train=TRAIN_SHARD_X2, val=VAL_SHARD_X2)
+        self.assertEqual((metrics["input_width"], metrics["output_width"], metrics["input_scale"]), (128, 128, 1))
+
     def test_end_to_end_floor_relative(self):
         metrics = self.train_and_check("run_floor", ["--floor-prior"])
         self.assertEqual(metrics["floor_prior"], {key: CAMERA[key] for key in ("fy", "cy", "eye_height_m")})
 
-    def train_and_check(self, name, options, extra_train=()):
-        """Trains 5 steps on the CPU with options (on TRAIN_SHARD and extra_train);
-        checks the outputs and the ONNX against torch; returns metrics.json."""
+    def train_and_check(self, name, options, extra_train=(), train=None, val=None):
+        """Trains 5 steps on the CPU with options (on train, TRAIN_SHARD by default,
+        and extra_train; validated on val, VAL_SHARD by default); checks the outputs
+        and the ONNX against torch; returns metrics.json."""
+        train, val = train or TRAIN_SHARD, val or VAL_SHARD
         out = os.path.join(WORK, name)
         env = dict(os.environ, OMP_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1")
-        command = [sys.executable, os.path.join(HERE, "train_depth.py"), "--train", TRAIN_SHARD, *extra_train,
-                   "--val", VAL_SHARD, "--out", out, "--steps", "5", "--batch", "4", "--eval-every", "3",
+        command = [sys.executable, os.path.join(HERE, "train_depth.py"), "--train", train, *extra_train,
+                   "--val", val, "--out", out, "--steps", "5", "--batch", "4", "--eval-every", "3",
                    "--device", "cpu", "--workers", "1"] + options
         run = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                              universal_newlines=True, timeout=120)
@@ -614,9 +699,12 @@ class TrainDepthTest(unittest.TestCase):
         self.assertEqual((properties["keep"], properties["kept_step"]), (metrics["keep"], str(metrics["kept_step"])))
         model = DepthNet(checkpoint["height"], checkpoint["width"], checkpoint["floor_prior"],
                          checkpoint["global_context"], checkpoint["column_context"], checkpoint["width_multiplier"],
-                         checkpoint["deep_blocks"])
+                         checkpoint["deep_blocks"], checkpoint["input_scale"])
         model.load_state_dict(checkpoint["state_dict"])
-        rgb = train_depth.as_input(torch.from_numpy(load_shards([VAL_SHARD])["rgb"][:3])).contiguous().numpy()
+        rgb = load_shards([val])["rgb"][:3]
+        rgb = np.stack([cv2.resize(image, (model.input_width, model.input_height), interpolation=cv2.INTER_AREA)
+                        for image in rgb])
+        rgb = train_depth.as_input(torch.from_numpy(rgb)).contiguous().numpy()
         report = verify_with_opencv(os.path.join(out, "depth_prior.onnx"), model, rgb)
         self.assertLess(report["max_abs_diff_log_depth"], 1e-3)
         return metrics

@@ -25,7 +25,8 @@ import numpy as np
 import torch
 
 from valerant_learn.augment import augment
-from valerant_learn.depth_net import DepthNet, count_macs, count_parameters
+from valerant_learn.depth_net import INPUT_SCALES, DepthNet, count_macs, count_parameters
+from valerant_learn.frame_size import parse_size, resize_frames
 from valerant_learn.losses import LOSSES, SKY_DEPTH_M, gradient_matching_loss, training_loss
 from valerant_learn.metrics import METRIC_MAX_M, METRIC_MIN_M, average, frame_calibration, frame_metrics, summarize
 from valerant_learn.onnx_export import FORMAT_VERSION, export_onnx
@@ -90,6 +91,13 @@ def parse_args(argv):
     parser.add_argument("--keep", choices=KEEP_CHOICES, default="best",
                         help="best: the weights of the best validation (above); last: the weights at "
                              "the end of training (with --ema, the averaged ones)")
+    parser.add_argument("--input-scale", type=int, choices=INPUT_SCALES, default=1,
+                        help="the net reads frames of this many times its output size "
+                             "(valerant_learn/depth_net.py, InputStem)")
+    parser.add_argument("--output-size", metavar="WxH",
+                        help="the net's output size (default: the shards' size over --input-scale); the "
+                             "shards' colour and depth are resized to the net's sizes "
+                             "(valerant_learn/frame_size.py)")
     parser.add_argument("--floor-prior", action="store_true",
                         help="predict ln depth relative to the floor-plane depth of each image row "
                              "(valerant_learn/floor_prior.py) instead of outright")
@@ -108,6 +116,11 @@ def parse_args(argv):
         parser.error("--gradient-weight must be at least 0, got %r" % args.gradient_weight)
     if args.ema is not None and not 0 < args.ema < 1:
         parser.error("--ema must be between 0 and 1, got %r" % args.ema)
+    if args.output_size is not None:
+        try:
+            args.output_size = parse_size(args.output_size)
+        except ValueError as error:
+            parser.error("--output-size: %s" % error)
     if args.select_maps is not None:
         args.select_maps = [name for name in args.select_maps.split(",") if name]
         if not args.select_maps:
@@ -153,6 +166,12 @@ def load_split(args):
     for option, data in (("--train", train), ("--val", val)):
         if not np.isfinite(data["depth"]).any():
             raise ValueError("%s shards hold no depth at all (every pixel is sky)" % option)
+    meta = train["meta"]
+    output_size = args.output_size or (meta["width"] // args.input_scale, meta["height"] // args.input_scale)
+    train, val = (resize_frames(data, output_size, args.input_scale, "the %s shards" % option)
+                  for option, data in (("--train", train), ("--val", val)))
+    if select is not None:
+        select = resize_frames(select, output_size, args.input_scale, "the --select-maps frames")
     return train, val, select
 
 
@@ -215,7 +234,8 @@ def save_checkpoint(model, state, step, keep, path):
                 "floor_prior": floor_prior_camera(model),
                 "global_context": model.global_context is not None,
                 "column_context": model.column_context is not None,
-                "width_multiplier": model.width_multiplier, "deep_blocks": model.deep_blocks}, path)
+                "width_multiplier": model.width_multiplier, "deep_blocks": model.deep_blocks,
+                "input_scale": model.input_scale}, path)
 
 
 def train(model, train_frames, val_frames, select_frames, args, device, out_dir):
@@ -338,7 +358,7 @@ def main(argv=None):
         train_data, val_data, select_data = load_split(args)
         meta = train_data["meta"]
         model = DepthNet(meta["height"], meta["width"], meta if args.floor_prior else None, args.global_context,
-                         args.column_context, args.width_multiplier, args.deep_blocks)
+                         args.column_context, args.width_multiplier, args.deep_blocks, args.input_scale)
     except ValueError as error:
         sys.exit("train_depth: error: %s" % error)
     os.makedirs(args.out, exist_ok=True)
@@ -348,7 +368,7 @@ def main(argv=None):
         print("%s: %d frames from %d shards, maps %s" % (name, len(data["kind"]), len(data["meta"]["shards"]),
                                                          ", ".join(data["meta"]["maps"])), flush=True)
     parameters = count_parameters(model)
-    macs = count_macs(model, meta["height"], meta["width"])
+    macs = count_macs(model)
     print("model: %d parameters, %.1f M multiply-adds a frame; device %s"
           % (parameters, macs / 1e6, device_name(device)), flush=True)
     train_frames, val_frames = Frames(train_data, device), Frames(val_data, device)
@@ -377,7 +397,7 @@ def main(argv=None):
         "global_context": "yes" if args.global_context else "no",
         "column_context": "yes" if args.column_context else "no", "loss": args.loss,
         "width_multiplier": args.width_multiplier, "deep_blocks": args.deep_blocks,
-        "gradient_weight": args.gradient_weight,
+        "gradient_weight": args.gradient_weight, "input_scale": args.input_scale,
         "keep": args.keep, "kept_step": kept_step,
         "train_maps": ",".join(meta["maps"]), "val_abs_rel": val_summary["all"]["abs_rel"]})
     print("exported %s; cv2.dnn vs torch max |diff| ln depth %.2e, ln b %.2e"
@@ -403,8 +423,11 @@ def main(argv=None):
         "parameters": parameters,
         "macs_per_frame": macs,
         "flops_per_frame": 2 * macs,
-        "input_width": meta["width"],
-        "input_height": meta["height"],
+        "input_scale": args.input_scale,
+        "input_width": model.input_width,
+        "input_height": model.input_height,
+        "output_width": model.width,
+        "output_height": model.height,
         "steps": steps,
         "best_step": best_step,
         "kept_step": kept_step,

@@ -16,7 +16,13 @@ With global context (GlobalContext) the stride-32 features also see a summary of
 the whole frame before decoding; with column context (ColumnContext) the stride-8
 decoder features see a summary of their image column. With deep_blocks N, each of the
 two coarsest encoder stages (strides 16 and 32) ends with N more stride-1 blocks: depth
-where a frame is 48 and 12 positions, which costs parameters but few multiply-adds."""
+where a frame is 48 and 12 positions, which costs parameters but few multiply-adds.
+With input_scale 2 the net reads a frame of twice its output size (InputStem): one
+stride-2 conv brings it to the output size, where the net goes on as at scale 1 and
+its last decoder stage gets those features as a skip. A 128 x 96 frame blurs a wall's
+texels within a few metres; the texel size is a metric cue (a level's textures are
+mapped at one scale), so the net sees them at 256 x 192 and still costs about what it
+did: the extra conv runs once, at the output size."""
 import copy
 import math
 
@@ -54,6 +60,10 @@ GLOBAL_CONTEXT_CHANNELS = 256
 # (stage 1 outputs stride 8: 16 columns of 8 pixels at 128 x 96).
 COLUMN_CONTEXT_CHANNELS = 64
 COLUMN_CONTEXT_STAGE = 1
+# Input size over output size: 1, or 2 through an InputStem of this many features (not
+# widened by the width multiplier: each of them costs about 1.2 M multiply-adds a frame).
+INPUT_SCALES = (1, 2)
+INPUT_STEM_CHANNELS = 16
 # Channel counts are multiples of this after a width multiplier (the usual MobileNet
 # rounding, which keeps the convolutions' vector loops full).
 CHANNEL_DIVISOR = 8
@@ -206,6 +216,19 @@ def clamp_by_relu(x, low, high):
     return low + F.relu(x - low) - F.relu(x - high)
 
 
+class InputStem(nn.Module):
+    """A frame of twice the output size to `channels` features at the output size:
+    coordinates appended at the input size, one 3x3 stride-2 conv."""
+
+    def __init__(self, height, width, channels):
+        super().__init__()
+        self.coordinates = AppendCoordinates(2 * height, 2 * width)
+        self.conv = ConvBN(5, channels, 3, 2)
+
+    def forward(self, rgb):
+        return self.conv(self.coordinates(rgb))
+
+
 class DepthNet(nn.Module):
     """floor_prior: None (the depth head predicts ln depth itself) or the camera
     (fy, cy, eye_height_m) whose floor-plane depth the head predicts ln depth
@@ -213,10 +236,12 @@ class DepthNet(nn.Module):
     a ColumnContext after decoder stage COLUMN_CONTEXT_STAGE. width_multiplier:
     every encoder and decoder width times this (scaled_channels); the contexts'
     summaries keep theirs. deep_blocks: stride-1 blocks added at the end of the
-    stride-16 and the stride-32 stage each (0: ENCODER_STAGES as listed)."""
+    stride-16 and the stride-32 stage each (0: ENCODER_STAGES as listed).
+    input_scale: 1 (the net reads height x width) or 2 (it reads twice that, through
+    an InputStem); the output is height x width either way."""
 
     def __init__(self, height=96, width=128, floor_prior=None, global_context=False, column_context=False,
-                 width_multiplier=1.0, deep_blocks=0):
+                 width_multiplier=1.0, deep_blocks=0, input_scale=1):
         super().__init__()
         if height % 32 or width % 32:
             raise ValueError("DepthNet needs a size divisible by 32, got %dx%d" % (width, height))
@@ -224,7 +249,11 @@ class DepthNet(nn.Module):
             raise ValueError("DepthNet needs a positive width multiplier, got %r" % (width_multiplier,))
         if not (isinstance(deep_blocks, int) and deep_blocks >= 0):
             raise ValueError("DepthNet needs a whole number of deep blocks, at least 0, got %r" % (deep_blocks,))
+        if input_scale not in INPUT_SCALES:
+            raise ValueError("DepthNet needs an input scale among %s, got %r" % (INPUT_SCALES, input_scale))
         self.height, self.width = height, width
+        self.input_scale = input_scale
+        self.input_height, self.input_width = height * input_scale, width * input_scale
         self.width_multiplier = float(width_multiplier)
         self.deep_blocks = deep_blocks
 
@@ -233,8 +262,10 @@ class DepthNet(nn.Module):
 
         decoder_channels = [widen(channels) for channels in DECODER_CHANNELS]
         self.floor_prior = None if floor_prior is None else AddFloorPrior(height, width, floor_prior)
+        self.input_stem = InputStem(height, width, INPUT_STEM_CHANNELS) if input_scale == 2 else None
+        image_channels = 3 if self.input_stem is None else INPUT_STEM_CHANNELS
         self.coordinates = AppendCoordinates(height, width)
-        self.stem = ConvBN(5, widen(STEM_CHANNELS), 3, 2)
+        self.stem = ConvBN(image_channels + 2, widen(STEM_CHANNELS), 3, 2)
         self.stages = nn.ModuleList()
         channels, skips = widen(STEM_CHANNELS), []
         for index, stage in enumerate(ENCODER_STAGES):
@@ -248,9 +279,10 @@ class DepthNet(nn.Module):
             self.stages.append(nn.Sequential(*blocks))
             skips.append(channels)
         self.global_context = GlobalContext(channels, height // 32, width // 32) if global_context else None
-        # Skips at strides 16, 8, 4, 2, then none at full resolution.
+        # Skips at strides 16, 8, 4, 2, then at full resolution the input stem's (if any).
         self.decoder = nn.ModuleList()
-        for cout, skip in zip(decoder_channels, skips[-2::-1] + [0]):
+        full_resolution_skip = 0 if self.input_stem is None else INPUT_STEM_CHANNELS
+        for cout, skip in zip(decoder_channels, skips[-2::-1] + [full_resolution_skip]):
             self.decoder.append(DecoderStage(channels, skip, cout))
             channels = cout
         column_stride = 16 // 2 ** COLUMN_CONTEXT_STAGE
@@ -264,8 +296,9 @@ class DepthNet(nn.Module):
         nn.init.zeros_(self.scale_head.bias)
 
     def forward(self, rgb):
-        x = self.stem(self.coordinates(rgb))
-        skips = []
+        image = rgb if self.input_stem is None else self.input_stem(rgb)
+        x = self.stem(self.coordinates(image))
+        skips = [] if self.input_stem is None else [image]
         for stage in self.stages:
             x = stage(x)
             skips.append(x)
@@ -299,9 +332,10 @@ def count_parameters(model):
     return sum(parameter.numel() for parameter in model.parameters())
 
 
-def count_macs(model, height, width):
-    """Multiply-accumulates of the convolutions for one frame (the rest of the
-    graph is a rounding error). One FLOP-count convention is 2 x this."""
+def count_macs(model):
+    """Multiply-accumulates of the convolutions for one frame of the model's input
+    size (the rest of the graph is a rounding error). One FLOP-count convention is 2
+    x this."""
     total = [0]
 
     def hook(module, _inputs, output):
@@ -314,7 +348,7 @@ def count_macs(model, height, width):
     model.eval()
     try:
         with torch.no_grad():
-            model(torch.zeros(1, 3, height, width, device=next(model.parameters()).device))
+            model(torch.zeros(1, 3, model.input_height, model.input_width, device=next(model.parameters()).device))
     finally:
         model.train(was_training)
         for handle in handles:

@@ -108,16 +108,19 @@ def export_onnx(model, path, rgb, metadata):
     file's metadata_props next to the fixed description. Returns a report."""
     folded = fold_batchnorm(model)
     height, width = folded.height, folded.width
-    proto = _torch_export(folded, height, width)
+    input_height, input_width = folded.input_height, folded.input_width
+    proto = _torch_export(folded, input_height, input_width)
     removed = inline_initializer_identities(proto.graph)
     properties = {
         "format": FORMAT_VERSION,
-        "input": "%s: float32 [N,3,%d,%d] RGB in [0,1]" % (INPUT_NAME, height, width),
+        "input": "%s: float32 [N,3,%d,%d] RGB in [0,1]" % (INPUT_NAME, input_height, input_width),
         "output": "%s: float32 [N,2,%d,%d]; channel 0 = ln(depth in metres, along the optical axis), "
                   "channel 1 = ln(b), b the Laplace scale of the ln-depth error, clamped to [%g, %g]"
                   % (OUTPUT_NAME, height, width, LOG_SCALE_MIN, LOG_SCALE_MAX),
-        "input_width": width,
-        "input_height": height,
+        "input_width": input_width,
+        "input_height": input_height,
+        "output_width": width,
+        "output_height": height,
     }
     properties.update(metadata)
     save_checked(proto, path, properties)

@@ -63,9 +63,16 @@ class NetPool {
 
 namespace {
 
+// The output sizes a net may have for an input of `input`: the same, or half of it for a
+// net that reads frames of twice its output size (learn/valerant_learn/depth_net.py).
+bool isOutputSizeFor(cv::Size output, cv::Size input) {
+  return output == input || (output.width * 2 == input.width && output.height * 2 == input.height);
+}
+
 // One forward pass of `blob` (float32 [1,3,H,W]); returns the output, which must be
-// [1,2,H,W], as its own copy (forward's result may alias the Net's buffers).
-cv::Mat forward(cv::dnn::Net& net, const cv::Mat& blob, const std::string& path) {
+// [1,2,h,w] with (w,h) == `output_size` (on the probe, when that is empty, (W,H) or
+// (W/2,H/2)), as its own copy (forward's result may alias the Net's buffers).
+cv::Mat forward(cv::dnn::Net& net, const cv::Mat& blob, const std::string& path, cv::Size output_size) {
   cv::Mat out;
   try {
     net.setInput(blob, kInputName);
@@ -75,13 +82,21 @@ cv::Mat forward(cv::dnn::Net& net, const cv::Mat& blob, const std::string& path)
                                blobShapeText(blob) + " (the size it was made for?) and output '" + kOutputName +
                                "': " + e.err);
   }
-  const bool expected = out.dims == 4 && out.size[0] == 1 && out.size[1] == 2 && out.size[2] == blob.size[2] &&
-                        out.size[3] == blob.size[3] && out.type() == CV_32F;
-  if (!expected)
+  const cv::Size input(blob.size[3], blob.size[2]);
+  const bool planes = out.dims == 4 && out.size[0] == 1 && out.size[1] == 2 && out.type() == CV_32F;
+  const cv::Size size = planes ? cv::Size(out.size[3], out.size[2]) : cv::Size();
+  const bool expected =
+      planes && (output_size.empty() ? isOutputSizeFor(size, input) : size == output_size);
+  if (!expected) {
+    const std::string wanted =
+        output_size.empty()
+            ? "[1,2," + std::to_string(input.height) + "," + std::to_string(input.width) + "] or [1,2," +
+                  std::to_string(input.height / 2) + "," + std::to_string(input.width / 2) + "]"
+            : "[1,2," + std::to_string(output_size.height) + "," + std::to_string(output_size.width) + "]";
     throw InputError(path, std::string("output '") + kOutputName + "' has shape " + blobShapeText(out) +
                                (out.type() == CV_32F ? "" : " (not float32)") + " for input " + blobShapeText(blob) +
-                               ", expected [1,2," + std::to_string(blob.size[2]) + "," +
-                               std::to_string(blob.size[3]) + "] float32");
+                               ", expected " + wanted + " float32");
+  }
   return out.clone();
 }
 
@@ -102,7 +117,10 @@ DepthPrior::DepthPrior(const std::string& model_path, cv::Size net_size)
   nets_ = std::make_unique<NetPool>(readModelFile(model_path, "depth prior model"), model_path);
   // Probe: a wrong interface fails here, not in the middle of a run.
   cv::dnn::Net net = nets_->take();
-  forward(net, cv::Mat(std::vector<int>{1, 3, net_size.height, net_size.width}, CV_32F, cv::Scalar(0.5)), path_);
+  const cv::Mat probe =
+      forward(net, cv::Mat(std::vector<int>{1, 3, net_size.height, net_size.width}, CV_32F, cv::Scalar(0.5)), path_,
+              cv::Size());
+  output_size_ = cv::Size(probe.size[3], probe.size[2]);
   nets_->put(std::move(net));
 }
 
@@ -119,7 +137,7 @@ DepthPrediction DepthPrior::predict(const cv::Mat& rgb) const {
   const cv::Mat blob = cv::dnn::blobFromImage(small, 1.0 / 255.0, cv::Size(), cv::Scalar(), false, false, CV_32F);
 
   cv::dnn::Net net = nets_->take();
-  const cv::Mat out = forward(net, blob, path_);
+  const cv::Mat out = forward(net, blob, path_, output_size_);
   nets_->put(std::move(net));
 
   // [1,2,h,w] viewed as the two channel planes stacked: rows [0,h) ln depth, [h,2h) ln b.

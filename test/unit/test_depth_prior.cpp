@@ -75,6 +75,20 @@ TEST(DepthPrior, ResizedToTheCameraIsBilinear) {
   expectUniform(camera.log_scale, -1.0, 1e-6);
 }
 
+TEST(DepthPrior, ANetReadingTwiceItsOutputSizePredictsAtItsOutput) {
+  // The same linear model at stride 2: 256 x 192 in, 128 x 96 out.
+  const DepthPrior prior(std::string(VALERANT_SOURCE_DIR) + "/test/data/depth_prior_linear_x2.onnx",
+                         cv::Size(256, 192));
+  EXPECT_EQ(prior.netSize(), cv::Size(256, 192));
+  EXPECT_EQ(prior.outputSize(), kNetSize);
+  // R = 1, G = 0.4, B = 0.2, as above: ln depth = ln 2 + 1.25, ln b = -0.9.
+  const DepthPrediction mixed = prior.predict(cv::Mat(240, 320, CV_8UC3, cv::Scalar(255, 102, 51)));
+  EXPECT_EQ(mixed.depth_m.size(), kNetSize);
+  EXPECT_EQ(mixed.log_scale.size(), kNetSize);
+  expectUniform(mixed.depth_m, 2.0 * std::exp(1.25), 1e-4);
+  expectUniform(mixed.log_scale, -0.9, 1e-6);
+}
+
 TEST(DepthPrior, RejectsAFrameThatIsNotRgb8) {
   const DepthPrior prior(kLinearModel, kNetSize);
   try {

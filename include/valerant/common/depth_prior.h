@@ -33,22 +33,26 @@ class DepthPrior {
   // Loads the ONNX file at `model_path` for input frames resized to `net_size` (OpenCV
   // 4.6 cannot read the input size from the file) and runs one probe forward. Throws
   // InputError naming the file when it is missing, unreadable, not a model OpenCV can
-  // load, or its output is not [1,2,net_size.height,net_size.width].
+  // load, or its output is not [1,2,net_size.height,net_size.width] or half that (a net
+  // that reads frames of twice its output size).
   DepthPrior(const std::string& model_path, cv::Size net_size);
   ~DepthPrior();
   DepthPrior(const DepthPrior&) = delete;
   DepthPrior& operator=(const DepthPrior&) = delete;
 
   // `rgb`: CV_8UC3 RGB of any size, resized (INTER_AREA) to the net's input. The
-  // prediction is at the net's resolution. Throws InputError for another image type.
+  // prediction is at the net's output size. Throws InputError for another image type.
   DepthPrediction predict(const cv::Mat& rgb) const;
 
   const std::string& modelPath() const { return path_; }
   cv::Size netSize() const { return net_size_; }
+  // The size of every prediction: netSize(), or half of it.
+  cv::Size outputSize() const { return output_size_; }
 
  private:
   std::string path_;
   cv::Size net_size_;
+  cv::Size output_size_;
   std::unique_ptr<NetPool> nets_;
 };
 

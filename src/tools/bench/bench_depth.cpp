@@ -93,7 +93,7 @@ nlohmann::json runDepthBench(Config config, const std::optional<std::string>& ma
   for (const char* c : {"uw", "jw", "lw", "jq", "lq"}) sequences.push_back(makeActionSequence(c, config));
   cv::setNumThreads(1);
   const DepthPrior prior(model, cv::Size(config.slam.depth_prior_width, config.slam.depth_prior_height));
-  const cv::Size net_size = prior.netSize();
+  const cv::Size net_size = prior.netSize(), output_size = prior.outputSize();
 
   ScoreMeans prior_scores, sweep_scores;
   std::vector<double> prior_ms, prior_cpu_ms;
@@ -129,7 +129,7 @@ nlohmann::json runDepthBench(Config config, const std::optional<std::string>& ma
             continue;
           }
           cv::Mat truth;
-          cv::resize(rollout.truth.at(i).depth_m, truth, net_size, 0, 0, cv::INTER_NEAREST);
+          cv::resize(rollout.truth.at(i).depth_m, truth, output_size, 0, 0, cv::INTER_NEAREST);
 
           const ThreadClock t0 = ThreadClock::now();
           const DepthPrediction predicted = prior.predict(rollout.frames[i]);
@@ -145,7 +145,7 @@ nlohmann::json runDepthBench(Config config, const std::optional<std::string>& ma
           ++coverage_frames;
           if (sweep.empty() || covered == 0) continue;
           cv::Mat sweep_small;
-          cv::resize(sweep, sweep_small, net_size, 0, 0, cv::INTER_NEAREST);
+          cv::resize(sweep, sweep_small, output_size, 0, 0, cv::INTER_NEAREST);
           if (const auto s = scoreMetricDepth(sweep_small, truth, medianScale(sweep_small, truth))) sweep_scores.add(*s, rotation);
         }
       }
@@ -170,6 +170,8 @@ nlohmann::json runDepthBench(Config config, const std::optional<std::string>& ma
           {"rotation_frames", prior_scores.rotationFrames()},
           {"net_width", net_size.width},
           {"net_height", net_size.height},
+          {"output_width", output_size.width},
+          {"output_height", output_size.height},
           {"prior", prior_json},
           {"plane_sweep", sweep_json},
           {"model", model}};

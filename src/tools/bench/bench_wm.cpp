@@ -295,7 +295,7 @@ json runWorldModelBench(const Config& config, const Flags& flags) {
             continue;
           }
           cv::Mat true_depth;
-          cv::resize(truth.truth[i].depth_m, true_depth, prior.netSize(), 0, 0, cv::INTER_NEAREST);
+          cv::resize(truth.truth[i].depth_m, true_depth, prior.outputSize(), 0, 0, cv::INTER_NEAREST);
           const auto on_model = scoreMetricDepth(prior.predict(generated[i]).depth_m, true_depth);
           const auto on_real = scoreMetricDepth(prior.predict(truth.frames[i]).depth_m, true_depth);
           if (!on_model || !on_real) continue;  // no true depth in range (all sky): not scored on either
