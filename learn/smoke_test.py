@@ -339,10 +339,10 @@ class InputScaleTest(unittest.TestCase):
         self.assertEqual((net.input_width, net.input_height), (2 * WIDTH, 2 * HEIGHT))
         with torch.no_grad():
             self.assertEqual(tuple(net(torch.rand(1, 3, 2 * HEIGHT, 2 * WIDTH)).shape), (1, 2, HEIGHT, WIDTH))
-        # The stem's conv reads the input stem's 16 features and 2 coordinates instead of RGB and 2.
-        self.assertEqual((net.input_stem.conv[0].in_channels, net.stem[0].in_channels), (5, 18))
-        # The last decoder stage's depthwise conv sees the upsampled 24 channels and the 16 of the skip.
-        self.assertEqual(net.decoder[-1].conv[0][0].in_channels, 24 + 16)
+        # The stem's conv reads the input stem's 8 features and 2 coordinates instead of RGB and 2.
+        self.assertEqual((net.input_stem.conv[0].in_channels, net.stem[0].in_channels), (5, 10))
+        # The last decoder stage's depthwise conv sees the upsampled 24 channels and the 8 of the skip.
+        self.assertEqual(net.decoder[-1].conv[0][0].in_channels, 24 + 8)
         with self.assertRaisesRegex(ValueError, "input scale among"):
             DepthNet(HEIGHT, WIDTH, input_scale=3)
 

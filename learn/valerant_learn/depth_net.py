@@ -63,7 +63,7 @@ COLUMN_CONTEXT_STAGE = 1
 # Input size over output size: 1, or 2 through an InputStem of this many features (not
 # widened by the width multiplier: each of them costs about 1.2 M multiply-adds a frame).
 INPUT_SCALES = (1, 2)
-INPUT_STEM_CHANNELS = 16
+INPUT_STEM_CHANNELS = 8
 # Channel counts are multiples of this after a width multiplier (the usual MobileNet
 # rounding, which keeps the convolutions' vector loops full).
 CHANNEL_DIVISOR = 8
