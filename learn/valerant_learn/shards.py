@@ -128,22 +128,34 @@ def _decode_frame(path, width, height, meta, index, jpg, png):
     return cv2.cvtColor(rgb, cv2.COLOR_BGR2RGB), depth
 
 
-def _read_shard(path, pool):
+def _read_index(path):
+    """(meta, columns) of a shard: its meta.json and frames.csv, checked."""
     if not os.path.isfile(path):
         raise ValueError("%s: no such shard" % path)
     try:
         with zipfile.ZipFile(path) as archive:
             meta = _parse_meta(path, _read_entry(archive, path, "meta.json"))
             columns = _parse_frames(path, _read_entry(archive, path, "frames.csv"), set(meta["maps"]))
+    except zipfile.BadZipFile as error:
+        raise ValueError("%s: not a zip file (%s)" % (path, error)) from None
+    return meta, columns
+
+
+def _decode_shard(path, meta, columns, pool, rgb_out, depth_out):
+    """Decodes the shard's frames into rgb_out and depth_out (one row a frame, in
+    frames.csv order)."""
+    try:
+        with zipfile.ZipFile(path) as archive:
             blobs = [(i, _read_entry(archive, path, rgb_name(i)), _read_entry(archive, path, depth_name(i)))
                      for i in columns["index"]]
     except zipfile.BadZipFile as error:
         raise ValueError("%s: not a zip file (%s)" % (path, error)) from None
     width, height = meta["width"], meta["height"]
-    decoded = list(pool.map(lambda blob: _decode_frame(path, width, height, meta, *blob), blobs))
-    rgb = np.stack([frame[0] for frame in decoded])
-    depth = np.stack([frame[1] for frame in decoded])
-    return meta, columns, rgb, depth
+
+    def decode(row):
+        rgb_out[row], depth_out[row] = _decode_frame(path, width, height, meta, *blobs[row])
+
+    list(pool.map(decode, range(len(blobs))))
 
 
 def check_same_camera(first_path, first, path, meta):
@@ -156,23 +168,30 @@ def check_same_camera(first_path, first, path, meta):
 def load_shards(paths, workers=1):
     """Loads shards into memory. Returns a dict of per-frame numpy arrays
     ('rgb' uint8 N×H×W×3 RGB, 'depth' float32 N×H×W metres with NaN for sky,
-    'shard', 'index' and every frames.csv column) plus 'meta': the camera and
+    'shard', 'index' and every frame.csv column) plus 'meta': the camera and
     depth-encoding fields the shards share, 'maps' (sorted, as present in
-    frames) and 'shards' (the paths)."""
+    frames) and 'shards' (the paths). Every shard's index is read and checked
+    first; the frames are then decoded straight into arrays of their final size, so
+    a data set takes its own size in memory and one shard's compressed bytes more."""
     paths = list(paths)
     if not paths:
         raise ValueError("no shards given")
-    parts = []
-    with concurrent.futures.ThreadPoolExecutor(max(1, workers)) as pool:
-        for path in paths:
-            parts.append((path,) + _read_shard(path, pool))
-    first_path, first_meta = parts[0][0], parts[0][1]
-    for path, meta, _, _, _ in parts[1:]:
+    indices = [(path,) + _read_index(path) for path in paths]
+    first_path, first_meta = indices[0][0], indices[0][1]
+    for path, meta, _ in indices[1:]:
         check_same_camera(first_path, first_meta, path, meta)
-    data = {name: np.concatenate([np.asarray(part[2][name]) for part in parts]) for name in FRAME_COLUMNS}
-    data["shard"] = np.concatenate([np.full(len(part[2]["index"]), part[0]) for part in parts])
-    data["rgb"] = np.concatenate([part[3] for part in parts])
-    data["depth"] = np.concatenate([part[4] for part in parts])
+    counts = [len(columns["index"]) for _, _, columns in indices]
+    total, width, height = sum(counts), first_meta["width"], first_meta["height"]
+    rgb = np.empty((total, height, width, 3), np.uint8)
+    depth = np.empty((total, height, width), np.float32)
+    with concurrent.futures.ThreadPoolExecutor(max(1, workers)) as pool:
+        start = 0
+        for (path, meta, columns), count in zip(indices, counts):
+            _decode_shard(path, meta, columns, pool, rgb[start:start + count], depth[start:start + count])
+            start += count
+    data = {name: np.concatenate([np.asarray(columns[name]) for _, _, columns in indices]) for name in FRAME_COLUMNS}
+    data["shard"] = np.concatenate([np.full(count, path) for (path, _, _), count in zip(indices, counts)])
+    data["rgb"], data["depth"] = rgb, depth
     meta = {key: first_meta[key] for key in ("format", "depth_encoding") + CAMERA_KEYS}
     meta["maps"] = sorted(set(data["map"].tolist()))
     meta["shards"] = paths
