@@ -30,6 +30,7 @@ mkdir -p "$root"
 maps=$("$tool" --list-maps --split train)
 a=$(echo "$maps" | awk 'NR % 2 == 1' | paste -sd,)
 b=$(echo "$maps" | awk 'NR % 2 == 0' | paste -sd,)
+renderings=()  # the rendered folders, in order, for pack_parts.py
 render() {  # render NAME SEED [OPTION...]: both halves side by side
   local name=$1 seed=$2
   shift 2
@@ -38,24 +39,15 @@ render() {  # render NAME SEED [OPTION...]: both halves side by side
   "$tool" --out "$root/${name}_b" --maps "$b" --seed "$seed" "${size[@]}" "$@" > "$root/${name}_b.json" &
   wait $first
   wait $!
+  renderings+=("$root/${name}_a" "$root/${name}_b")
 }
+all=$([ ${#size[@]} -eq 0 ] && echo yes || true)  # --x2 leaves out seeds 4 and 6
 walls=(--spawns 0 --rotations 0 --walks 0 --wall-rotations 24)
-if [ ${#size[@]} -eq 0 ]; then
-  render train 1
-  render train_rand 4 --texture-shuffle 0.9
-  render train_rand5 5 --texture-shuffle 1.0
-  render train_rand6 6 --texture-shuffle 1.0
-  render train_wall7 7 "${walls[@]}"
-  render train_wall8 8 "${walls[@]}" --texture-shuffle 1.0
-  "$tool" --out data/eval --split evaluation --seed 2 > data/eval.json
-  /usr/bin/python3 learn/pack_parts.py --out data/depth_parts \
-    data/train_{,rand_,rand5_,rand6_,wall7_,wall8_}{a,b} data/eval
-else
-  render train 1
-  render train_rand5 5 --texture-shuffle 1.0
-  render train_wall7 7 "${walls[@]}"
-  render train_wall8 8 "${walls[@]}" --texture-shuffle 1.0
-  "$tool" --out "$root/eval" --split evaluation --seed 2 "${size[@]}" > "$root/eval.json"
-  /usr/bin/python3 learn/pack_parts.py --out "$root/depth_parts" \
-    "$root"/train_{,rand5_,wall7_,wall8_}{a,b} "$root/eval"
-fi
+render train 1
+[ -z "$all" ] || render train_rand 4 --texture-shuffle 0.9
+render train_rand5 5 --texture-shuffle 1.0
+[ -z "$all" ] || render train_rand6 6 --texture-shuffle 1.0
+render train_wall7 7 "${walls[@]}"
+render train_wall8 8 "${walls[@]}" --texture-shuffle 1.0
+"$tool" --out "$root/eval" --split evaluation --seed 2 "${size[@]}" > "$root/eval.json"
+/usr/bin/python3 learn/pack_parts.py --out "$root/depth_parts" "${renderings[@]}" "$root/eval"

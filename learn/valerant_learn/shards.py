@@ -168,7 +168,7 @@ def check_same_camera(first_path, first, path, meta):
 def load_shards(paths, workers=1):
     """Loads shards into memory. Returns a dict of per-frame numpy arrays
     ('rgb' uint8 N×H×W×3 RGB, 'depth' float32 N×H×W metres with NaN for sky,
-    'shard', 'index' and every frame.csv column) plus 'meta': the camera and
+    'shard', 'index' and every frames.csv column) plus 'meta': the camera and
     depth-encoding fields the shards share, 'maps' (sorted, as present in
     frames) and 'shards' (the paths). Every shard's index is read and checked
     first; the frames are then decoded straight into arrays of their final size, so
