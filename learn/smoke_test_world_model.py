@@ -29,11 +29,12 @@ from valerant_learn.junit import run_smoke_test
 from valerant_learn.shards import load_shards, write_shard
 from valerant_learn.training import sha256
 from valerant_learn.world_data import WorldWindows, motion_between, split_sequences, wrap_degrees
-from valerant_learn.world_discriminator import Adversary, PatchDiscriminator, discriminator_loss, generator_loss
+from valerant_learn.world_discriminator import Adversary, PatchDiscriminator, discriminator_loss, generator_loss, \
+    patch_weights
 from valerant_learn.world_metrics import horizon_table, psnr, ssim
 from valerant_learn.prior_depth import prior_depths
 from valerant_learn.pose_warp import PoseGeometry, advance_pose, depth_in_camera, pose_sampling, relative_transform
-from valerant_learn.world_net import WorldNet, apply_warp, input_name, rollout
+from valerant_learn.world_net import WorldNet, apply_warp, carry_seen, input_name, rollout
 from valerant_learn.world_warp import AnchorState, anchor_step, pixel_grid, rotation_sampling
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -389,6 +390,45 @@ class WorldNetTest(unittest.TestCase):
         with self.assertRaises(ValueError):
             WorldNet(4, 90, 128)
 
+    def test_a_left_turn_invents_the_left_edge(self):
+        # The head zeroed: flow 0, mask sigmoid(4) = 0.98, so the warp is the rotation's.
+        # fx = 24, cx = 24 on 48 columns, a left turn of 10 degrees: pixel x of row 16 (its
+        # ray level to 0.02) looks at atan((x + 0.5 - 24) / 24) - 10 degrees in the newest
+        # frame, at u = 24 tan(that) + 23.5. x = 7: atan(-16.5 / 24) = -34.51, -44.51 deg,
+        # u = -0.099: outside (its left tap is off the image); x = 8: -32.86, -42.86 deg,
+        # u = 1.22: inside. The right edge, x = 47, looks at u = 39.9.
+        model = WorldNet(2, 32, 48, full_res_head=True, warp="rotation_anchor").eval()
+        with torch.no_grad():
+            model.head.weight.zero_()
+        camera = {"fx": 24.0, "fy": 24.0, "cx": 24.0, "cy": 16.0}
+        with torch.no_grad():
+            frames, invented = rollout(model, torch.rand(1, 2, 3, 32, 48), torch.tensor([[[0.0, 0.0, 10.0, 0.0]]]),
+                                       camera, with_invented=True)
+        self.assertEqual(tuple(frames.shape), (1, 1, 3, 32, 48))
+        self.assertEqual(tuple(invented.shape), (1, 1, 1, 32, 48))
+        self.assertEqual(invented[0, 0, 0, 16].tolist(), [1.0] * 8 + [0.0] * 40)
+
+
+class CarrySeenTest(unittest.TestCase):
+    def test_pixels_looking_off_the_image_or_at_invented_ones_or_filled_are_invented(self):
+        # 4 x 6 frames, every pixel looking one pixel to its right: column 5 looks at
+        # column 6, off the image; column 1 looks at column 2, which the newest frame
+        # had invented; pixel (3, 3) keeps the fill.
+        seen = torch.ones(1, 1, 4, 6)
+        seen[0, 0, :, 2] = 0.0
+        positions = pixel_grid(4, 6, torch.device("cpu"), torch.float32)[None].clone()
+        positions[:, 0] += 1.0
+        mask = torch.ones(1, 1, 4, 6)
+        mask[0, 0, 3, 3] = 0.4  # the fill chosen: invented although it looks at a seen pixel
+        expected = torch.tensor([[1.0, 0.0, 1.0, 1.0, 1.0, 0.0]] * 4)
+        expected[3, 3] = 0.0
+        torch.testing.assert_close(carry_seen(seen, positions, mask)[0, 0], expected)
+        # Half a pixel right: column 5 looks at 5.5, one tap off the image (sampled 0.5);
+        # column 4 at 4.5 lies between two seen pixels.
+        positions[:, 0] -= 0.5
+        self.assertEqual(carry_seen(torch.ones(1, 1, 4, 6), positions, torch.ones(1, 1, 4, 6))[0, 0, 0].tolist(),
+                         [1.0, 1.0, 1.0, 1.0, 1.0, 0.0])
+
 
 class SplitShardTest(unittest.TestCase):
     def test_cut_points_fall_between_sequences(self):
@@ -419,19 +459,37 @@ class GradientDifferenceTest(unittest.TestCase):
 
 class DiscriminatorTest(unittest.TestCase):
     def test_hinge_losses(self):
-        # Real logits 0.5 and 2: relu(1 - 0.5) = 0.5, relu(1 - 2) = 0, mean 0.25; fake
-        # logits -2 and 0: relu(1 - 2) = 0, relu(1 + 0) = 1, mean 0.5; the generator's
-        # term is the negated mean of the fake logits, 1.
+        # Real logits 0.5 and 2: relu(1 - 0.5) = 0.5, relu(1 - 2) = 0; fake logits -2 and
+        # 0: relu(1 - 2) = 0, relu(1 + 0) = 1. Equal weights: means 0.25 + 0.5 = 0.75; the
+        # generator's term is the negated mean of the fake logits, 1.
         real, fake = torch.tensor([[[[0.5, 2.0]]]]), torch.tensor([[[[-2.0, 0.0]]]])
-        self.assertAlmostEqual(float(discriminator_loss(real, fake)), 0.75, places=6)
-        self.assertAlmostEqual(float(generator_loss(fake)), 1.0, places=6)
+        equal = torch.ones(1, 1, 1, 2)
+        self.assertAlmostEqual(float(discriminator_loss(real, fake, equal)), 0.75, places=6)
+        self.assertAlmostEqual(float(generator_loss(fake, equal)), 1.0, places=6)
+        # Weights 0.25 and 0.75 (sum 1): 0.25 * 0.5 + 0.75 * 0 = 0.125 and
+        # 0.25 * 0 + 0.75 * 1 = 0.75, 0.875; the generator's -(0.25 * -2 + 0.75 * 0) = 0.5.
+        # Weights 1 and 0: only the first patches count, 0.5 + 0 and 2.
+        weights = torch.tensor([[[[0.25, 0.75]]]])
+        self.assertAlmostEqual(float(discriminator_loss(real, fake, weights)), 0.875, places=6)
+        self.assertAlmostEqual(float(generator_loss(fake, weights)), 0.5, places=6)
+        first = torch.tensor([[[[1.0, 0.0]]]])
+        self.assertAlmostEqual(float(discriminator_loss(real, fake, first)), 0.5, places=6)
+        self.assertAlmostEqual(float(generator_loss(fake, first)), 2.0, places=6)
+
+    def test_patch_weights_are_the_invented_share_of_each_cell(self):
+        # 16 x 16, the left 4 columns invented: each 8 x 8 cell of the left column holds
+        # 32 of 64 invented pixels, those of the right column none.
+        invented = torch.zeros(1, 1, 16, 16)
+        invented[..., :4] = 1.0
+        torch.testing.assert_close(patch_weights(invented), torch.tensor([[[[0.5, 0.0], [0.5, 0.0]]]]))
 
     def test_patch_logits(self):
         net = PatchDiscriminator()
-        self.assertEqual(tuple(net(torch.rand(2, 3, HEIGHT, WIDTH)).shape), (2, 1, HEIGHT // 8, WIDTH // 8))
+        self.assertEqual(tuple(net(torch.rand(2, 3, HEIGHT, WIDTH), torch.zeros(2, 1, HEIGHT, WIDTH)).shape),
+                         (2, 1, HEIGHT // 8, WIDTH // 8))
         convs = [m for m in net.modules() if isinstance(m, torch.nn.Conv2d)]
         self.assertEqual([(c.in_channels, c.out_channels, c.kernel_size, c.stride) for c in convs],
-                         [(3, 32, (4, 4), (2, 2)), (32, 64, (4, 4), (2, 2)), (64, 128, (4, 4), (2, 2)),
+                         [(4, 32, (4, 4), (2, 2)), (32, 64, (4, 4), (2, 2)), (64, 128, (4, 4), (2, 2)),
                           (128, 1, (3, 3), (1, 1))])
         self.assertTrue(all(torch.nn.utils.parametrize.is_parametrized(c, "weight") for c in convs))
 
@@ -439,19 +497,30 @@ class DiscriminatorTest(unittest.TestCase):
         adversary = Adversary(1e-3, torch.device("cpu"))
         before = [p.detach().clone() for p in adversary.net.parameters()]
         real = torch.full((1, 3, 16, 16), float("nan"))
-        self.assertIsNone(adversary.step(real, torch.rand(1, 3, 16, 16)))
+        self.assertIsNone(adversary.step(real, torch.rand(1, 3, 16, 16), torch.ones(1, 1, 16, 16)))
         for old, new in zip(before, adversary.net.parameters()):
             torch.testing.assert_close(new, old)
 
-    def test_sample_keeps_pairs(self):
-        predicted = torch.arange(6.0).view(6, 1, 1, 1)
-        fake, real = train_world_model.adversarial_sample(predicted, predicted + 10, 4,
-                                                          torch.Generator().manual_seed(0))
-        self.assertEqual(len(fake), 4)
-        self.assertEqual(len(set(fake.flatten().tolist())), 4)
+    def test_sample_keeps_pairs_of_frames_with_enough_invented(self):
+        # Invented shares 0, 0.5, 0.02, 0.005, 1, 0.3 (10 x 10 maps): frames 1, 2, 4 and 5
+        # reach MIN_INVENTED_SHARE (0.01).
+        predicted = torch.arange(6.0).view(6, 1, 1, 1).expand(6, 3, 10, 10)
+        invented = torch.zeros(6, 1, 10, 10)
+        for frame, pixels in ((1, 50), (2, 2), (4, 100), (5, 30)):
+            invented[frame].view(-1)[:pixels] = 1.0
+        invented[3, 0, 0, 0] = 0.5
+        fake, real, shown = train_world_model.adversarial_sample(predicted, predicted + 10, invented, 3,
+                                                                 torch.Generator().manual_seed(0))
+        self.assertEqual(len(fake), 3)
+        frames = fake[:, 0, 0, 0].tolist()
+        self.assertEqual(len(set(frames)), 3)
+        self.assertTrue(set(frames) <= {1.0, 2.0, 4.0, 5.0})
         torch.testing.assert_close(real, fake + 10)
-        fake, real = train_world_model.adversarial_sample(predicted, predicted + 10, 6, None)
-        self.assertIs(fake, predicted)
+        torch.testing.assert_close(shown, invented[[int(f) for f in frames]])
+        fake, _, _ = train_world_model.adversarial_sample(predicted, predicted + 10, invented, 10, None)
+        self.assertEqual(fake[:, 0, 0, 0].tolist(), [1.0, 2.0, 4.0, 5.0])
+        self.assertIsNone(train_world_model.adversarial_sample(predicted, predicted, torch.zeros(6, 1, 10, 10), 3,
+                                                               None))
 
 
 class TrainWorldModelTest(unittest.TestCase):
@@ -506,24 +575,30 @@ class TrainWorldModelTest(unittest.TestCase):
         self.assertIn("--depth-prior %s: no such file" % os.path.join(WORK, "missing.onnx"), run.stdout)
 
     def test_adversarial_end_to_end_on_cpu(self):
-        # 2 windows of 2 frames, then of 3: 4 and 6 predicted frames, 3 of them shown to
-        # the discriminator.
+        # 2 windows of 2 frames, then of 3: 4 and 6 predicted frames. The panorama turns
+        # left 1.6 degrees a frame, so with the rotation warp every predicted frame's left
+        # 1.8 columns of 128 look off the newest frame: invented, at least 1.6 % of it.
+        # From step 2 of 4 (--adversarial-start 0.5), 3 of them are shown to the
+        # discriminator a step.
         out = os.path.join(WORK, "adversarial")
-        run = train_run("adversarial", ["--val", VAL_SHARD, "--adversarial-weight", "0.01",
-                                        "--adversarial-frames", "3", "--log-every", "1"])
+        run = train_run("adversarial", ["--val", VAL_SHARD, "--warp", "rotation_anchor", "--adversarial-weight",
+                                        "0.01", "--adversarial-frames", "3", "--adversarial-start", "0.5",
+                                        "--log-every", "1"])
         self.assertEqual(run.returncode, 0, run.stdout)
         with open(os.path.join(out, "metrics.json")) as handle:
             metrics = json.load(handle)
         self.assertEqual((metrics["adversarial_weight"], metrics["adversarial_frames"], metrics["adversarial_lr"],
-                          metrics["init"]), (0.01, 3, 2e-4, None))
+                          metrics["adversarial_start"], metrics["init"]), (0.01, 3, 2e-4, 0.5, None))
         with open(os.path.join(out, "log.csv")) as handle:
             rows = list(csv.DictReader(handle))
         self.assertEqual(len(rows), 2)
         self.assertTrue(all(np.isfinite(float(row[key])) for row in rows for key in ("train_loss", "val_l1")))
-        logged = re.findall(r"skipped \(non-finite gradient\) 0  discriminator loss (\S+)  adversarial term (\S+)  "
-                            r"skipped \(discriminator\) 0\n", run.stdout)
-        self.assertEqual(len(logged), 4, run.stdout)
-        self.assertTrue(np.isfinite(np.array(logged, dtype=float)).all(), logged)
+        logged = re.findall(r"skipped \(non-finite gradient\) 0  adversarial steps (\d+)  discriminator loss (\S+)  "
+                            r"adversarial term (\S+)  skipped \(discriminator\) 0\n", run.stdout)
+        self.assertEqual([int(steps) for steps, _, _ in logged], [0, 0, 1, 2], run.stdout)
+        # Before the start nothing was measured (the running means print 0).
+        self.assertEqual([(float(d), float(g)) for _, d, g in logged[:2]], [(0.0, 0.0)] * 2)
+        self.assertTrue(all(float(d) > 0 and np.isfinite(float(g)) for _, d, g in logged[2:]), logged)
 
 
 class InitTest(unittest.TestCase):

@@ -14,8 +14,9 @@ ones: --val is measured, never used to choose.
 --init starts from the weights of an earlier run's world_model.pt (same context, head,
 warp and frame size; a fresh optimiser and schedule). --adversarial-weight W adds W times
 the hinge term of a PatchGAN discriminator (valerant_learn/world_discriminator.py),
-trained beside the net, so that the fill of what no context frame held gets texture
-rather than a smooth mean colour.
+trained beside the net from --adversarial-start on and shown where the predicted frames
+show what no context frame held, so that the fill there gets texture rather than a
+smooth mean colour.
 
 Validation (and the figures of the model card) runs every candidate rollout of the
 --val shards from its first frame, the context that frame repeated, and reports PSNR
@@ -51,6 +52,9 @@ WEIGHT_DECAY = 0.01
 GRAD_CLIP_NORM = 1.0
 SSIM_WEIGHT = 0.2
 VAL_WINDOWS = 256
+# A frame shows the discriminator something when at least this share of its pixels was
+# invented (a one-pixel column of a 128-pixel-wide frame is 0.8 %).
+MIN_INVENTED_SHARE = 0.01
 DEFAULT_DEPTH_PRIOR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "depth_prior.onnx")
 # What train() saves in world_model.pt; --init reads it back.
 CHECKPOINT_KEYS = ("state_dict", "context", "full_res_head", "warp", "camera", "height", "width", "step")
@@ -99,6 +103,9 @@ def parse_args(argv):
                              "the unroll's when it has more)")
     parser.add_argument("--adversarial-lr", type=float, default=2e-4,
                         help="the discriminator's Adam learning rate (constant)")
+    parser.add_argument("--adversarial-start", type=float, default=0.0, metavar="F",
+                        help="the share of the training (steps or minutes) before the adversarial term and the "
+                             "discriminator start: the reconstruction is learnt first")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--device", choices=["auto", "cpu", "cuda"], default="auto")
     parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
@@ -127,6 +134,8 @@ def parse_args(argv):
         parser.error("--adversarial-weight must be at least 0")
     if not args.adversarial_lr > 0:
         parser.error("--adversarial-lr must be positive")
+    if not 0 <= args.adversarial_start < 1:
+        parser.error("--adversarial-start must be in [0, 1)")
     if not 0 <= args.late_fraction < 1:
         parser.error("--late-fraction must be in [0, 1)")
     return args
@@ -230,7 +239,8 @@ def gradient_difference(predicted, true):
 
 def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_weight=0.0):
     """depth: float [N,H,W] metres of every frame (pose_anchor), else None. Returns the
-    loss, its L1 part, and the predicted and true frames of the unroll [N*T,3,H,W]."""
+    loss, its L1 part, the predicted and true frames of the unroll [N*T,3,H,W] and the
+    predicted frames' invented maps [N*T,1,H,W] (world_net.rollout)."""
     context = as_frames(rgb[table.context[picks]])
     targets = as_frames(rgb[table.targets[picks]])
     motions = table.motions[picks]
@@ -242,23 +252,28 @@ def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_wei
         if anchor_depth is not None:
             anchor_depth = anchor_depth.clone()
             anchor_depth[flip] = anchor_depth[flip].flip(-1)
-    predicted = rollout(model, context, motions, camera, anchor_depth).float()
+    predicted, invented = rollout(model, context, motions, camera, anchor_depth, with_invented=True)
+    predicted = predicted.float()
     n, t = predicted.shape[:2]
     flat_pred, flat_true = predicted.reshape(n * t, *predicted.shape[2:]), targets.reshape(n * t, *targets.shape[2:])
     l1 = (flat_pred - flat_true).abs().mean()
     loss = l1 + SSIM_WEIGHT * (1 - ssim(flat_pred, flat_true).mean())
     if gradient_weight > 0:
         loss = loss + gradient_weight * gradient_difference(flat_pred, flat_true)
-    return loss, l1, flat_pred, flat_true
+    return loss, l1, flat_pred, flat_true, invented.reshape(n * t, *invented.shape[2:]).float()
 
 
-def adversarial_sample(predicted, true, limit, generator):
-    """The frames [F,3,H,W] the discriminator sees: all of the unroll's predicted and
-    true frames, or `limit` pairs of them drawn with the training generator (seeded)."""
-    if len(predicted) <= limit:
-        return predicted, true
-    picks = torch.randperm(len(predicted), generator=generator, device=predicted.device)[:limit]
-    return predicted[picks], true[picks]
+def adversarial_sample(predicted, true, invented, limit, generator):
+    """The frames the discriminator sees: the unroll's predicted and true frames
+    [F,3,H,W] and the predicted ones' invented maps [F,1,H,W], of the frames whose
+    invented share is at least MIN_INVENTED_SHARE; at most `limit` of them, drawn with the
+    training generator (seeded). None when no frame has that much invented."""
+    chosen = torch.nonzero(invented.mean((1, 2, 3)) >= MIN_INVENTED_SHARE).flatten()
+    if len(chosen) == 0:
+        return None
+    if len(chosen) > limit:
+        chosen = chosen[torch.randperm(len(chosen), generator=generator, device=chosen.device)[:limit]]
+    return predicted[chosen], true[chosen], invented[chosen]
 
 
 def val_rollouts(windows, limit):
@@ -324,6 +339,7 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
     rows, step, loss_sum, loss_steps, skipped_steps = [], 0, torch.zeros((), device=device), 0, 0
     adversary = Adversary(args.adversarial_lr, device) if args.adversarial_weight > 0 else None
     adversarial_mean, discriminator_mean, discriminator_skipped = RunningMean(), RunningMean(), 0
+    adversarial_steps = 0  # steps whose frames showed the discriminator something (adversarial_sample)
     start = time.time()
     with open(os.path.join(out_dir, "log.csv"), "w", newline="") as log_file:
         log = csv.DictWriter(log_file, LOG_COLUMNS)
@@ -333,7 +349,7 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
             nonlocal loss_sum, loss_steps
             model.eval()
             with torch.no_grad():
-                _, val_l1, _, _ = window_loss(model, rgb["val"], val_table, val_picks, None, camera, depth["val"])
+                _, val_l1, _, _, _ = window_loss(model, rgb["val"], val_table, val_picks, None, camera, depth["val"])
             model.train()
             table = measure_horizons(model, windows_val, val_runs, device, camera, depth["val"])
             row = {"step": step, "seconds": round(time.time() - start, 2), "unroll": unroll,
@@ -363,11 +379,14 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
             flip = torch.rand(args.batch, generator=generator, device=device) < 0.5
             with torch.autocast(device_type=device.type, dtype=torch.bfloat16,
                                 enabled=device.type == "cuda" and args.precision == "bf16"):
-                loss, _, predicted, true = window_loss(model, rgb["train"], table, picks, flip, camera,
-                                                       depth["train"], args.gradient_weight)
-            if adversary is not None:  # in fp32, outside autocast
-                fake, real = adversarial_sample(predicted, true, args.adversarial_frames, generator)
-                adversarial = adversary.generator_term(fake)
+                loss, _, predicted, true, invented = window_loss(model, rgb["train"], table, picks, flip, camera,
+                                                                 depth["train"], args.gradient_weight)
+            shown = None
+            if adversary is not None and progress >= args.adversarial_start:  # in fp32, outside autocast
+                shown = adversarial_sample(predicted, true, invented, args.adversarial_frames, generator)
+            if shown is not None:
+                fake, real, fake_invented = shown
+                adversarial = adversary.generator_term(fake, fake_invented)
                 loss = loss + args.adversarial_weight * adversarial
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
@@ -376,12 +395,13 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
                 optimizer.step()
                 loss_sum += loss.detach()
                 loss_steps += 1
-                if adversary is not None:
+                if shown is not None:
                     adversarial_mean.add(adversarial.detach())
             else:  # one bad window must not turn every weight into NaN
                 skipped_steps += 1
-            if adversary is not None:
-                d_loss = adversary.step(real, fake)
+            if shown is not None:
+                adversarial_steps += 1
+                d_loss = adversary.step(real, fake, fake_invented)
                 if d_loss is None:
                     discriminator_skipped += 1
                 else:
@@ -389,8 +409,8 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
             step += 1
             if step % args.log_every == 0:
                 adversarial_log = "" if adversary is None else (
-                    "  discriminator loss %.4f  adversarial term %.4f  skipped (discriminator) %d"
-                    % (discriminator_mean.take(), adversarial_mean.take(), discriminator_skipped))
+                    "  adversarial steps %d  discriminator loss %.4f  adversarial term %.4f  skipped (discriminator) %d"
+                    % (adversarial_steps, discriminator_mean.take(), adversarial_mean.take(), discriminator_skipped))
                 print("step %d  %.0f s  train loss %.4f  skipped (non-finite gradient) %d%s"
                       % (step, time.time() - start, float(loss_sum) / max(loss_steps, 1), skipped_steps,
                          adversarial_log), flush=True)
@@ -476,6 +496,7 @@ def main(argv=None):
         "adversarial_weight": args.adversarial_weight,
         "adversarial_frames": args.adversarial_frames,
         "adversarial_lr": args.adversarial_lr,
+        "adversarial_start": args.adversarial_start,
         "init": init,
         "input_width": meta["width"],
         "input_height": meta["height"],

@@ -34,8 +34,8 @@ from torch import nn
 import torch.nn.functional as F
 
 from .depth_net import AppendCoordinates, ConvBN
-from .world_warp import ANCHOR_WARPS, EXTRA_INPUT_CHANNELS, AnchorState, anchor_step, pixel_grid, rotation_sampling, \
-    sample
+from .world_warp import ANCHOR_WARPS, EXTRA_INPUT_CHANNELS, VALID_MIN, AnchorState, anchor_step, pixel_grid, \
+    rotation_sampling, sample
 
 INPUT_NAME = "frames_and_motion"
 POSE_ANCHOR_INPUT_NAME = "frames_motion_and_pose_warp"
@@ -176,18 +176,35 @@ def net_input(model, context, motion, camera, state=None):
     return torch.cat(parts, 1), positions, geometry
 
 
-def step(model, context, motion, camera=None, state=None):
+def carry_seen(seen, positions, mask):
+    """Where the next frame still shows what the context showed: its pixels whose
+    sampling positions in the newest frame (positions [N,2,H,W]: the geometry's plus the
+    flow) fall wholly on pixels that showed it (all four bilinear taps; none outside the
+    image) and whose mask [N,1,H,W] keeps the warp rather than the fill. seen: float
+    [N,1,H,W] of 0 and 1 for the newest frame; the same for the next. The training's
+    adversarial term looks where this is 0, at what the model invented; unlike the anchor
+    state's validity it is not reset when a generated frame becomes the anchor."""
+    return ((sample(seen, positions, padding="zeros") >= VALID_MIN) & (mask >= 0.5)).to(seen.dtype)
+
+
+def step(model, context, motion, camera=None, state=None, seen=None):
     """One autoregressive step. context: float [N,K,3,H,W] in [0,1], oldest first;
     motion: float [N,4]; camera (fx, fy, cx, cy) and the AnchorState for the anchor
-    warps. Returns (next frame [N,3,H,W], context for the step after, state after)."""
+    warps; seen: carry_seen()'s map of the newest frame, or None. Returns (next frame
+    [N,3,H,W], context for the step after, state after, seen map of the next frame or
+    None)."""
     x, positions, geometry = net_input(model, context, motion, camera, state)
     out = model(x)
     last = context[:, -1]
     if model.warp in ANCHOR_WARPS:
-        frame, state = anchor_step(state, last, positions + out[:, 0:2], out[:, 2:3], out[:, 3:6], geometry)
+        positions = positions + out[:, 0:2]
+        frame, state = anchor_step(state, last, positions, out[:, 2:3], out[:, 3:6], geometry)
     else:
+        positions = pixel_grid(last.shape[2], last.shape[3], last.device, last.dtype)[None] + out[:, 0:2]
         frame = apply_warp(last, out)
-    return frame, torch.cat([context[:, 1:], frame[:, None]], 1), state
+    if seen is not None:
+        seen = carry_seen(seen, positions, out[:, 2:3])
+    return frame, torch.cat([context[:, 1:], frame[:, None]], 1), state, seen
 
 
 def start_state(model, context, camera=None, depth=None):
@@ -201,13 +218,19 @@ def start_state(model, context, camera=None, depth=None):
     return AnchorState.start(context[:, -1], depth if model.warp == "pose_anchor" else None, camera)
 
 
-def rollout(model, context, motions, camera=None, depth=None):
+def rollout(model, context, motions, camera=None, depth=None, with_invented=False):
     """Autoregressive frames for motions float [N,T,4] from context [N,K,3,H,W]:
     float [N,T,3,H,W]. The anchor warps' anchor starts at the newest context frame, whose
-    depth [N,1,H,W] pose_anchor needs."""
+    depth [N,1,H,W] pose_anchor needs. with_invented: also returns, as a second value,
+    float [N,T,1,H,W], 1 where a frame's pixel shows what no context frame held (1 -
+    carry_seen()'s map, which starts at 1 on the newest context frame)."""
     state = start_state(model, context, camera, depth)
-    frames = []
+    seen = torch.ones_like(context[:, -1, :1]) if with_invented else None
+    frames, invented = [], []
     for t in range(motions.shape[1]):
-        frame, context, state = step(model, context, motions[:, t], camera, state)
+        frame, context, state, seen = step(model, context, motions[:, t], camera, state, seen)
         frames.append(frame)
-    return torch.stack(frames, 1)
+        if with_invented:
+            invented.append(1.0 - seen)
+    frames = torch.stack(frames, 1)
+    return (frames, torch.stack(invented, 1)) if with_invented else frames
