@@ -237,10 +237,11 @@ def gradient_difference(predicted, true):
     return dx.abs().mean() + dy.abs().mean()
 
 
-def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_weight=0.0):
+def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_weight=0.0, with_invented=False):
     """depth: float [N,H,W] metres of every frame (pose_anchor), else None. Returns the
-    loss, its L1 part, the predicted and true frames of the unroll [N*T,3,H,W] and the
-    predicted frames' invented maps [N*T,1,H,W] (world_net.rollout)."""
+    loss, its L1 part, the predicted and true frames of the unroll [N*T,3,H,W] and, with
+    with_invented, the predicted frames' invented maps [N*T,1,H,W] (world_net.rollout;
+    else None)."""
     context = as_frames(rgb[table.context[picks]])
     targets = as_frames(rgb[table.targets[picks]])
     motions = table.motions[picks]
@@ -252,7 +253,8 @@ def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_wei
         if anchor_depth is not None:
             anchor_depth = anchor_depth.clone()
             anchor_depth[flip] = anchor_depth[flip].flip(-1)
-    predicted, invented = rollout(model, context, motions, camera, anchor_depth, with_invented=True)
+    predicted, invented = rollout(model, context, motions, camera, anchor_depth, with_invented=True) \
+        if with_invented else (rollout(model, context, motions, camera, anchor_depth), None)
     predicted = predicted.float()
     n, t = predicted.shape[:2]
     flat_pred, flat_true = predicted.reshape(n * t, *predicted.shape[2:]), targets.reshape(n * t, *targets.shape[2:])
@@ -260,7 +262,9 @@ def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_wei
     loss = l1 + SSIM_WEIGHT * (1 - ssim(flat_pred, flat_true).mean())
     if gradient_weight > 0:
         loss = loss + gradient_weight * gradient_difference(flat_pred, flat_true)
-    return loss, l1, flat_pred, flat_true, invented.reshape(n * t, *invented.shape[2:]).float()
+    if invented is not None:
+        invented = invented.reshape(n * t, *invented.shape[2:]).float()
+    return loss, l1, flat_pred, flat_true, invented
 
 
 def adversarial_sample(predicted, true, invented, limit, generator):
@@ -377,12 +381,13 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
                 group["lr"] = learning_rate(args.lr, progress)
             picks = torch.randint(table.count, (args.batch,), generator=generator, device=device)
             flip = torch.rand(args.batch, generator=generator, device=device) < 0.5
+            adversarial_on = adversary is not None and progress >= args.adversarial_start
             with torch.autocast(device_type=device.type, dtype=torch.bfloat16,
                                 enabled=device.type == "cuda" and args.precision == "bf16"):
                 loss, _, predicted, true, invented = window_loss(model, rgb["train"], table, picks, flip, camera,
-                                                                 depth["train"], args.gradient_weight)
+                                                                 depth["train"], args.gradient_weight, adversarial_on)
             shown = None
-            if adversary is not None and progress >= args.adversarial_start:  # in fp32, outside autocast
+            if adversarial_on:  # in fp32, outside autocast
                 shown = adversarial_sample(predicted, true, invented, args.adversarial_frames, generator)
             if shown is not None:
                 fake, real, fake_invented = shown

@@ -200,8 +200,9 @@ def step(model, context, motion, camera=None, state=None, seen=None):
         positions = positions + out[:, 0:2]
         frame, state = anchor_step(state, last, positions, out[:, 2:3], out[:, 3:6], geometry)
     else:
-        positions = pixel_grid(last.shape[2], last.shape[3], last.device, last.dtype)[None] + out[:, 0:2]
         frame = apply_warp(last, out)
+        if seen is not None:  # apply_warp's sampling positions
+            positions = pixel_grid(last.shape[2], last.shape[3], last.device, last.dtype)[None] + out[:, 0:2]
     if seen is not None:
         seen = carry_seen(seen, positions, out[:, 2:3])
     return frame, torch.cat([context[:, 1:], frame[:, None]], 1), state, seen
