@@ -17,6 +17,7 @@ import subprocess
 import sys
 import tempfile
 import unittest
+from copy import deepcopy
 
 import cv2
 import numpy as np
@@ -456,6 +457,53 @@ class GradientDifferenceTest(unittest.TestCase):
         self.assertAlmostEqual(float(train_world_model.gradient_difference(predicted, true)), 1 / 3, places=6)
         self.assertEqual(float(train_world_model.gradient_difference(true, true)), 0.0)
 
+    def test_weighted_by_the_smaller_weight_of_each_pair(self):
+        # The same rows, pixel weights 1 1 0.5 0: the three horizontal pairs weigh 1, 0.5
+        # and 0, (1 x .25 + .5 x .5) / 1.5 = 1/3 on each row; the vertical pairs' weights
+        # are those of their column, over differences that are all 0.
+        true = torch.tensor([[0.0, 0.0, 1.0, 1.0]] * 2)[None, None]
+        predicted = torch.tensor([[0.0, 0.25, 0.75, 1.0]] * 2)[None, None]
+        weights = torch.tensor([[1.0, 1.0, 0.5, 0.0]] * 2)[None, None]
+        self.assertAlmostEqual(float(train_world_model.gradient_difference(predicted, true, weights)), 1 / 3, places=6)
+        # Weights 0 1 1 1: only the pairs (1, 2) and (2, 3) count, (.5 + .25) / 2.
+        weights = torch.tensor([[0.0, 1.0, 1.0, 1.0]] * 2)[None, None]
+        self.assertAlmostEqual(float(train_world_model.gradient_difference(predicted, true, weights)), 0.375, places=6)
+
+
+class ReconstructionWeightsTest(unittest.TestCase):
+    def test_weights_of_invented_pixels(self):
+        # Invented 0, 1 and 0.5 at an invented weight of 0.25: 1, 0.25 and 1 - 0.75 x 0.5.
+        invented = torch.tensor([0.0, 1.0, 0.5]).view(1, 1, 1, 3)
+        torch.testing.assert_close(train_world_model.reconstruction_weights(invented, 0.25),
+                                   torch.tensor([1.0, 0.25, 0.625]).view(1, 1, 1, 3))
+
+    def test_pixel_weighted_mean_over_channels(self):
+        # Channel 0 holds 1 and 3, channel 1 5 and 7; weights 1 and 0: (1 + 5) / 2.
+        values = torch.tensor([[[[1.0, 3.0]], [[5.0, 7.0]]]])
+        self.assertAlmostEqual(float(train_world_model.pixel_weighted_mean(values, torch.tensor([[[[1.0, 0.0]]]]))),
+                               3.0, places=6)
+
+    def test_pixels_of_weight_zero_leave_every_term(self):
+        # 11 x 12 frames, two SSIM windows (top left pixels (0, 0) and (0, 1), centres
+        # (5, 5) and (5, 6)); true and predicted differ only in column 11, which only the
+        # second window holds. Weight 0 on column 11 and on the second window's centre:
+        # the L1 and gradient terms see no difference and the SSIM term only the first
+        # window, whose frames are equal (index 1): the loss is 0. Unweighted, it is not;
+        # weights of 1 everywhere give the unweighted loss.
+        predicted = torch.rand(1, 3, 11, 12, generator=torch.Generator().manual_seed(3))
+        true = predicted.clone()
+        true[..., 11] = 1.0 - true[..., 11]
+        weights = torch.ones(1, 1, 11, 12)
+        weights[..., 11] = 0.0
+        weights[..., 5, 6] = 0.0
+        loss, l1 = train_world_model.reconstruction_loss(predicted, true, 1.0, weights)
+        self.assertAlmostEqual(float(loss), 0.0, places=6)
+        self.assertEqual(float(l1), 0.0)
+        plain, _ = train_world_model.reconstruction_loss(predicted, true, 1.0)
+        self.assertGreater(float(plain), 0.01)
+        ones, _ = train_world_model.reconstruction_loss(predicted, true, 1.0, torch.ones(1, 1, 11, 12))
+        self.assertAlmostEqual(float(ones), float(plain), places=6)
+
 
 class DiscriminatorTest(unittest.TestCase):
     def test_hinge_losses(self):
@@ -492,6 +540,24 @@ class DiscriminatorTest(unittest.TestCase):
                          [(4, 32, (4, 4), (2, 2)), (32, 64, (4, 4), (2, 2)), (64, 128, (4, 4), (2, 2)),
                           (128, 1, (3, 3), (1, 1))])
         self.assertTrue(all(torch.nn.utils.parametrize.is_parametrized(c, "weight") for c in convs))
+
+    def test_several_updates_on_one_batch(self):
+        # steps=3: three Adam updates on the same frames; the loss returned is the one
+        # before the first, as discriminator_loss gives it with the weights as they were
+        # (on a copy: each forward in training advances spectral_norm's power iteration).
+        torch.manual_seed(0)
+        adversary = Adversary(1e-3, torch.device("cpu"), steps=3)
+        real, fake = torch.rand(2, 3, 16, 16), torch.rand(2, 3, 16, 16)
+        invented = torch.ones(2, 1, 16, 16)
+        copy = deepcopy(adversary.net)
+        with torch.no_grad():
+            before = discriminator_loss(copy(real, invented), copy(fake, invented), patch_weights(invented))
+        self.assertAlmostEqual(float(adversary.step(real, fake, invented)), float(before), places=6)
+        self.assertEqual({int(state["step"]) for state in adversary.optimizer.state.values()}, {3})
+        with torch.no_grad():
+            after = discriminator_loss(adversary.net(real, invented), adversary.net(fake, invented),
+                                       patch_weights(invented))
+        self.assertLess(float(after), float(before))
 
     def test_a_non_finite_loss_skips_the_step(self):
         adversary = Adversary(1e-3, torch.device("cpu"))
@@ -593,12 +659,37 @@ class TrainWorldModelTest(unittest.TestCase):
             rows = list(csv.DictReader(handle))
         self.assertEqual(len(rows), 2)
         self.assertTrue(all(np.isfinite(float(row[key])) for row in rows for key in ("train_loss", "val_l1")))
-        logged = re.findall(r"skipped \(non-finite gradient\) 0  adversarial steps (\d+)  discriminator loss (\S+)  "
-                            r"adversarial term (\S+)  skipped \(discriminator\) 0\n", run.stdout)
-        self.assertEqual([int(steps) for steps, _, _ in logged], [0, 0, 1, 2], run.stdout)
+        logged = adversarial_log(run.stdout)
+        self.assertEqual([(int(steps), int(generator)) for steps, generator, _, _ in logged],
+                         [(0, 0), (0, 0), (1, 1), (2, 2)], run.stdout)
         # Before the start nothing was measured (the running means print 0).
-        self.assertEqual([(float(d), float(g)) for _, d, g in logged[:2]], [(0.0, 0.0)] * 2)
-        self.assertTrue(all(float(d) > 0 and np.isfinite(float(g)) for _, d, g in logged[2:]), logged)
+        self.assertEqual([(float(d), float(g)) for _, _, d, g in logged[:2]], [(0.0, 0.0)] * 2)
+        self.assertTrue(all(float(d) > 0 and np.isfinite(float(g)) for _, _, d, g in logged[2:]), logged)
+
+    def test_discriminator_lead_on_cpu(self):
+        # 4 steps, the discriminator from step 1 (progress 0.25) and the generator's term
+        # from step 2 (0.25 + lead 0.25), two discriminator updates a step, invented pixels
+        # at half weight from step 2 on.
+        out = os.path.join(WORK, "lead")
+        run = train_run("lead", ["--val", VAL_SHARD, "--warp", "rotation_anchor", "--adversarial-weight", "0.01",
+                                 "--adversarial-frames", "3", "--adversarial-start", "0.25", "--discriminator-lead",
+                                 "0.25", "--discriminator-steps", "2", "--invented-weight", "0.5", "--log-every", "1"])
+        self.assertEqual(run.returncode, 0, run.stdout)
+        logged = adversarial_log(run.stdout)
+        self.assertEqual([(int(steps), int(generator)) for steps, generator, _, _ in logged],
+                         [(0, 0), (1, 0), (2, 1), (3, 2)], run.stdout)
+        # The discriminator learnt at step 1, but no generator term was measured then.
+        self.assertTrue(float(logged[1][2]) > 0 and float(logged[1][3]) == 0.0, logged)
+        with open(os.path.join(out, "metrics.json")) as handle:
+            metrics = json.load(handle)
+        self.assertEqual((metrics["discriminator_lead"], metrics["discriminator_steps"], metrics["invented_weight"]),
+                         (0.25, 2, 0.5))
+
+    def test_refuses_a_lead_past_the_end(self):
+        run = train_run("lead_refused", ["--val", VAL_SHARD, "--adversarial-weight", "0.01", "--adversarial-start",
+                                         "0.5", "--discriminator-lead", "0.5"])
+        self.assertNotEqual(run.returncode, 0)
+        self.assertIn("--adversarial-start + --discriminator-lead below 1", run.stdout)
 
 
 class InitTest(unittest.TestCase):
@@ -646,6 +737,13 @@ class InitTest(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "--init %s: made for 128x96 frames, this data's are 48x32"
                                     % self.source):
             train_world_model.load_init(WorldNet(4, 32, 48), torch.load(self.source), self.source)
+
+
+def adversarial_log(stdout):
+    """(adversarial steps, of them with the generator's term, discriminator loss,
+    adversarial term) of each progress line a run with --adversarial-weight printed."""
+    return re.findall(r"skipped \(non-finite gradient\) 0  adversarial steps (\d+) \(generator (\d+)\)  "
+                      r"discriminator loss (\S+)  adversarial term (\S+)  skipped \(discriminator\) 0\n", stdout)
 
 
 def train_run(name, options):

@@ -16,7 +16,10 @@ warp and frame size; a fresh optimiser and schedule). --adversarial-weight W add
 the hinge term of a PatchGAN discriminator (valerant_learn/world_discriminator.py),
 trained beside the net from --adversarial-start on and shown where the predicted frames
 show what no context frame held, so that the fill there gets texture rather than a
-smooth mean colour.
+smooth mean colour. --discriminator-lead lets the discriminator learn alone for a while
+before its term joins the net's loss, --discriminator-steps gives it several updates a
+step, and --invented-weight lowers the reconstruction terms' pull towards the mean colour
+on the invented pixels while the term runs.
 
 Validation (and the figures of the model card) runs every candidate rollout of the
 --val shards from its first frame, the context that frame repeated, and reports PSNR
@@ -43,7 +46,7 @@ from valerant_learn.training import device_name, expand_globs, learning_rate, pi
 from valerant_learn.world_data import WorldWindows
 from valerant_learn.world_discriminator import Adversary
 from valerant_learn.world_export import export_world_onnx
-from valerant_learn.world_metrics import HORIZONS, horizon_table, ssim
+from valerant_learn.world_metrics import HORIZONS, SSIM_WINDOW, horizon_table, ssim, ssim_map
 from valerant_learn.world_net import WorldNet, net_input, rollout, start_state
 from valerant_learn.world_warp import WARPS
 from valerant_learn.world_plots import plot_world_curves, plot_rollouts
@@ -106,6 +109,14 @@ def parse_args(argv):
     parser.add_argument("--adversarial-start", type=float, default=0.0, metavar="F",
                         help="the share of the training (steps or minutes) before the adversarial term and the "
                              "discriminator start: the reconstruction is learnt first")
+    parser.add_argument("--discriminator-lead", type=float, default=0.0, metavar="F",
+                        help="the share of the training from --adversarial-start in which the discriminator "
+                             "learns alone, before the generator's term joins the loss")
+    parser.add_argument("--discriminator-steps", type=int, default=1, metavar="N",
+                        help="discriminator updates on each batch of frames a step shows it")
+    parser.add_argument("--invented-weight", type=float, default=1.0, metavar="W",
+                        help="while the generator's adversarial term runs, the weight of an invented pixel "
+                             "(world_net.carry_seen) in the L1, SSIM and gradient terms; 1: as any other")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--device", choices=["auto", "cpu", "cuda"], default="auto")
     parser.add_argument("--eval-every", type=int, default=500, metavar="N", help="validate every N steps")
@@ -120,7 +131,7 @@ def parse_args(argv):
                         help="candidate rollouts of --val measured at the horizons")
     args = parser.parse_args(argv)
     for name in ("steps", "batch", "eval_every", "log_every", "workers", "context", "unroll", "late_unroll",
-                 "max_val_rollouts", "adversarial_frames"):
+                 "max_val_rollouts", "adversarial_frames", "discriminator_steps"):
         value = getattr(args, name)
         if value is not None and value < 1:
             parser.error("--%s must be at least 1" % name.replace("_", "-"))
@@ -136,6 +147,10 @@ def parse_args(argv):
         parser.error("--adversarial-lr must be positive")
     if not 0 <= args.adversarial_start < 1:
         parser.error("--adversarial-start must be in [0, 1)")
+    if not (0 <= args.discriminator_lead and args.adversarial_start + args.discriminator_lead < 1):
+        parser.error("--discriminator-lead must be at least 0, and --adversarial-start + --discriminator-lead below 1")
+    if not 0 <= args.invented_weight <= 1:
+        parser.error("--invented-weight must be in [0, 1]")
     if not 0 <= args.late_fraction < 1:
         parser.error("--late-fraction must be in [0, 1)")
     return args
@@ -229,19 +244,57 @@ def mirror(context, targets, motions):
     return context.flip(-1), targets.flip(-1), motions * sign
 
 
-def gradient_difference(predicted, true):
+def gradient_difference(predicted, true, weights=None):
     """Mean |horizontal and vertical differences of predicted - those of true|: zero for
-    a perfect frame, large for a blurred one whose edges are flattened."""
+    a perfect frame, large for a blurred one whose edges are flattened. weights [N,1,H,W]
+    (reconstruction_weights): each difference weighs the smaller weight of its two pixels."""
     dx = (predicted[..., :, 1:] - predicted[..., :, :-1]) - (true[..., :, 1:] - true[..., :, :-1])
     dy = (predicted[..., 1:, :] - predicted[..., :-1, :]) - (true[..., 1:, :] - true[..., :-1, :])
-    return dx.abs().mean() + dy.abs().mean()
+    if weights is None:
+        return dx.abs().mean() + dy.abs().mean()
+    wx = torch.minimum(weights[..., :, 1:], weights[..., :, :-1])
+    wy = torch.minimum(weights[..., 1:, :], weights[..., :-1, :])
+    return pixel_weighted_mean(dx.abs(), wx) + pixel_weighted_mean(dy.abs(), wy)
 
 
-def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_weight=0.0, with_invented=False):
+def pixel_weighted_mean(values, weights):
+    """sum(weights * values) / sum(weights) over every pixel and channel of values
+    [N,C,H,W], weights [N,1,H,W] (the same for each channel)."""
+    return (weights * values).sum() / (weights.sum() * values.shape[1])
+
+
+def reconstruction_weights(invented, invented_weight):
+    """Each predicted pixel's weight in the reconstruction terms: 1, and invented_weight
+    where the invented map [N,1,H,W] is 1 (between the two where it is between)."""
+    return 1.0 - (1.0 - invented_weight) * invented
+
+
+def reconstruction_loss(predicted, true, gradient_weight, weights=None):
+    """L1 + SSIM_WEIGHT (1 - SSIM) + gradient_weight x gradient_difference of frames
+    [N,3,H,W]; returns (loss, L1). weights [N,1,H,W] (reconstruction_weights) make each
+    term a weighted mean: L1 and the gradient term by pixel, SSIM by the weight of each
+    window's centre pixel. None: plain means."""
+    if weights is None:
+        l1 = (predicted - true).abs().mean()
+        structure = ssim(predicted, true).mean()
+    else:
+        l1 = pixel_weighted_mean((predicted - true).abs(), weights)
+        r = SSIM_WINDOW // 2
+        centres = weights[..., r:weights.shape[-2] - r, r:weights.shape[-1] - r]
+        structure = pixel_weighted_mean(ssim_map(predicted, true), centres)
+    loss = l1 + SSIM_WEIGHT * (1 - structure)
+    if gradient_weight > 0:
+        loss = loss + gradient_weight * gradient_difference(predicted, true, weights)
+    return loss, l1
+
+
+def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_weight=0.0, with_invented=False,
+                invented_weight=None):
     """depth: float [N,H,W] metres of every frame (pose_anchor), else None. Returns the
     loss, its L1 part, the predicted and true frames of the unroll [N*T,3,H,W] and, with
     with_invented, the predicted frames' invented maps [N*T,1,H,W] (world_net.rollout;
-    else None)."""
+    else None). invented_weight (with with_invented): the weight of an invented pixel in
+    the reconstruction terms (reconstruction_weights); None: every pixel weighs 1."""
     context = as_frames(rgb[table.context[picks]])
     targets = as_frames(rgb[table.targets[picks]])
     motions = table.motions[picks]
@@ -258,12 +311,10 @@ def window_loss(model, rgb, table, picks, flip, camera, depth=None, gradient_wei
     predicted = predicted.float()
     n, t = predicted.shape[:2]
     flat_pred, flat_true = predicted.reshape(n * t, *predicted.shape[2:]), targets.reshape(n * t, *targets.shape[2:])
-    l1 = (flat_pred - flat_true).abs().mean()
-    loss = l1 + SSIM_WEIGHT * (1 - ssim(flat_pred, flat_true).mean())
-    if gradient_weight > 0:
-        loss = loss + gradient_weight * gradient_difference(flat_pred, flat_true)
     if invented is not None:
         invented = invented.reshape(n * t, *invented.shape[2:]).float()
+    weights = None if invented_weight is None else reconstruction_weights(invented, invented_weight)
+    loss, l1 = reconstruction_loss(flat_pred, flat_true, gradient_weight, weights)
     return loss, l1, flat_pred, flat_true, invented
 
 
@@ -341,9 +392,11 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
     val_picks = torch.linspace(0, val_table.count - 1, min(VAL_WINDOWS, val_table.count), device=device).long()
     budget_s = args.minutes * 60 if args.minutes is not None else None
     rows, step, loss_sum, loss_steps, skipped_steps = [], 0, torch.zeros((), device=device), 0, 0
-    adversary = Adversary(args.adversarial_lr, device) if args.adversarial_weight > 0 else None
+    adversary = Adversary(args.adversarial_lr, device, args.discriminator_steps) if args.adversarial_weight > 0 \
+        else None
     adversarial_mean, discriminator_mean, discriminator_skipped = RunningMean(), RunningMean(), 0
     adversarial_steps = 0  # steps whose frames showed the discriminator something (adversarial_sample)
+    generator_steps = 0    # of them, steps whose loss held the generator's term
     start = time.time()
     with open(os.path.join(out_dir, "log.csv"), "w", newline="") as log_file:
         log = csv.DictWriter(log_file, LOG_COLUMNS)
@@ -382,14 +435,16 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
             picks = torch.randint(table.count, (args.batch,), generator=generator, device=device)
             flip = torch.rand(args.batch, generator=generator, device=device) < 0.5
             adversarial_on = adversary is not None and progress >= args.adversarial_start
+            generator_on = adversarial_on and progress >= args.adversarial_start + args.discriminator_lead
             with torch.autocast(device_type=device.type, dtype=torch.bfloat16,
                                 enabled=device.type == "cuda" and args.precision == "bf16"):
-                loss, _, predicted, true, invented = window_loss(model, rgb["train"], table, picks, flip, camera,
-                                                                 depth["train"], args.gradient_weight, adversarial_on)
+                loss, _, predicted, true, invented = window_loss(
+                    model, rgb["train"], table, picks, flip, camera, depth["train"], args.gradient_weight,
+                    adversarial_on, args.invented_weight if generator_on and args.invented_weight != 1 else None)
             shown = None
             if adversarial_on:  # in fp32, outside autocast
                 shown = adversarial_sample(predicted, true, invented, args.adversarial_frames, generator)
-            if shown is not None:
+            if shown is not None and generator_on:
                 fake, real, fake_invented = shown
                 adversarial = adversary.generator_term(fake, fake_invented)
                 loss = loss + args.adversarial_weight * adversarial
@@ -400,12 +455,14 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
                 optimizer.step()
                 loss_sum += loss.detach()
                 loss_steps += 1
-                if shown is not None:
+                if shown is not None and generator_on:
                     adversarial_mean.add(adversarial.detach())
             else:  # one bad window must not turn every weight into NaN
                 skipped_steps += 1
             if shown is not None:
+                fake, real, fake_invented = shown
                 adversarial_steps += 1
+                generator_steps += generator_on
                 d_loss = adversary.step(real, fake, fake_invented)
                 if d_loss is None:
                     discriminator_skipped += 1
@@ -414,8 +471,9 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
             step += 1
             if step % args.log_every == 0:
                 adversarial_log = "" if adversary is None else (
-                    "  adversarial steps %d  discriminator loss %.4f  adversarial term %.4f  skipped (discriminator) %d"
-                    % (adversarial_steps, discriminator_mean.take(), adversarial_mean.take(), discriminator_skipped))
+                    "  adversarial steps %d (generator %d)  discriminator loss %.4f  adversarial term %.4f  "
+                    "skipped (discriminator) %d" % (adversarial_steps, generator_steps, discriminator_mean.take(),
+                                                    adversarial_mean.take(), discriminator_skipped))
                 print("step %d  %.0f s  train loss %.4f  skipped (non-finite gradient) %d%s"
                       % (step, time.time() - start, float(loss_sum) / max(loss_steps, 1), skipped_steps,
                          adversarial_log), flush=True)
@@ -502,6 +560,9 @@ def main(argv=None):
         "adversarial_frames": args.adversarial_frames,
         "adversarial_lr": args.adversarial_lr,
         "adversarial_start": args.adversarial_start,
+        "discriminator_lead": args.discriminator_lead,
+        "discriminator_steps": args.discriminator_steps,
+        "invented_weight": args.invented_weight,
         "init": init,
         "input_width": meta["width"],
         "input_height": meta["height"],

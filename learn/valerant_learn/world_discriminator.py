@@ -68,28 +68,34 @@ def generator_loss(fake_logits, weights):
 
 
 class Adversary:
-    """The discriminator and its Adam optimiser (constant rate), one step per generator
-    step. Call it outside autocast: it runs in fp32. Frames come with their invented
-    maps; a batch whose maps are all 0 has nothing to judge (the caller skips it)."""
+    """The discriminator and its Adam optimiser (constant rate), `steps` updates on each
+    batch the generator's step shows it (more than one lets it keep ahead of a generator
+    that learns faster). Call it outside autocast: it runs in fp32. Frames come with
+    their invented maps; a batch whose maps are all 0 has nothing to judge (the caller
+    skips it)."""
 
-    def __init__(self, lr, device):
+    def __init__(self, lr, device, steps=1):
         self.net = PatchDiscriminator().to(device)
         self.optimizer = torch.optim.Adam(self.net.parameters(), lr=lr, betas=BETAS)
+        self.steps = steps
 
     def generator_term(self, fake, invented):
         """generator_loss of fake frames, differentiable with respect to them."""
         return generator_loss(self.net(fake, invented), patch_weights(invented))
 
     def step(self, real, fake, invented):
-        """One discriminator step on real and fake frames (detached here) shown with the
-        fake ones' invented maps: returns its loss, or None when that is not finite and
-        the step was skipped."""
-        weights = patch_weights(invented)
-        loss = discriminator_loss(self.net(real, invented), self.net(fake.detach(), invented), weights)
-        if not torch.isfinite(loss):
-            return None
-        # Also drops the gradients the generator's backward left in the discriminator.
-        self.optimizer.zero_grad(set_to_none=True)
-        loss.backward()
-        self.optimizer.step()
-        return loss.detach()
+        """`steps` discriminator updates on real and fake frames (detached here) shown
+        with the fake ones' invented maps: returns the loss before the first, or None
+        when a loss was not finite (that update and the rest are skipped)."""
+        weights, fake = patch_weights(invented), fake.detach()
+        first = None
+        for _ in range(self.steps):
+            loss = discriminator_loss(self.net(real, invented), self.net(fake, invented), weights)
+            if not torch.isfinite(loss):
+                return None
+            first = loss.detach() if first is None else first
+            # Also drops the gradients the generator's backward left in the discriminator.
+            self.optimizer.zero_grad(set_to_none=True)
+            loss.backward()
+            self.optimizer.step()
+        return first

@@ -34,6 +34,13 @@ def _gaussian_window(channels, device):
 
 def ssim(predicted, true):
     """float [N] of images float [N,C,H,W] in [0,1] (differentiable: the training loss uses it)."""
+    return ssim_map(predicted, true).flatten(1).mean(1)
+
+
+def ssim_map(predicted, true):
+    """The SSIM index of every window of images float [N,C,H,W] in [0,1]: float
+    [N,C,H-SSIM_WINDOW+1,W-SSIM_WINDOW+1], position (y, x) the window whose top left pixel
+    is (y, x) (its centre pixel (y + r, x + r), r = SSIM_WINDOW // 2)."""
     predicted, true = predicted.float(), true.float()
     channels = predicted.shape[1]
     window = _gaussian_window(channels, predicted.device)
@@ -45,9 +52,8 @@ def ssim(predicted, true):
     var_p = blur(predicted * predicted) - mu_p ** 2
     var_t = blur(true * true) - mu_t ** 2
     cov = blur(predicted * true) - mu_p * mu_t
-    index = ((2 * mu_p * mu_t + SSIM_C1) * (2 * cov + SSIM_C2)) / (
+    return ((2 * mu_p * mu_t + SSIM_C1) * (2 * cov + SSIM_C2)) / (
         (mu_p ** 2 + mu_t ** 2 + SSIM_C1) * (var_p + var_t + SSIM_C2))
-    return index.flatten(1).mean(1)
 
 
 def flat_like(true):
