@@ -97,14 +97,25 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     // eq. 6 passes.
     std::vector<double> radii = {config_.body_radius};
     if (config_.prefix_commits) radii.push_back(config_.prefix_clearance);
+    const bool end_checked = config_.end_clearance > 0 && !rotation_only;
+    if (end_checked) radii.push_back(config_.end_clearance);
     const std::vector<std::vector<int>> counts = bodyCylinderCounts(points, floors, config_, radii);
     const PointCloudCollision pc = pointCloudCollisionFromCounts(counts.front(), config_, rotation_only);
     v.collision_pc = pc.collision;
     v.occupied_max = pc.occupied_max;
     v.body_counts = counts.front();
     if (pc.collision) unsafeAt(pc.run_start);
+    if (end_checked && !counts.back().empty() && counts.back().back() >= config_.n_occ) {
+      // The end pose is in contact: unsafe from the start of the run of samples in
+      // contact that reaches it, so a prefix stops short of that run.
+      const std::vector<int>& end = counts.back();
+      size_t first = end.size() - 1;
+      while (first > 0 && end[first - 1] >= config_.n_occ) --first;
+      v.ends_in_contact = true;
+      unsafeAt(static_cast<int>(first));
+    }
     if (config_.prefix_commits) {
-      const std::vector<int>& wide = counts.back();
+      const std::vector<int>& wide = counts[1];
       for (size_t i = 0; i < wide.size(); ++i)
         if (wide[i] >= config_.n_occ) {
           unsafeAt(static_cast<int>(i));

@@ -7,7 +7,7 @@ namespace valerant {
 nlohmann::json toJson(const BranchVerdict& v) {
   return {{"candidate", v.candidate},     {"rotation_only", v.rotation_only},
           {"collision_pc", v.collision_pc}, {"collision_depth", v.collision_depth},
-          {"turn_in_contact", v.turn_in_contact},
+          {"turn_in_contact", v.turn_in_contact}, {"ends_in_contact", v.ends_in_contact},
           {"occupied_max", v.occupied_max}, {"min_near_ratio", std::isfinite(v.min_near_ratio) ? v.min_near_ratio : -1.0},
           {"slam_lost", v.slam_lost},       {"floor_unknown", v.floor_unknown},
           {"enters_failed", v.enters_failed}, {"prefix_frames", v.prefix_frames},

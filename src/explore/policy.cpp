@@ -29,6 +29,7 @@ int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& confi
     if (v.collision_pc) reason += "point-cloud collision;";
     if (v.collision_depth) reason += "depth collision;";
     if (v.turn_in_contact) reason += "turn in place while in contact;";
+    if (v.ends_in_contact) reason += "ends in contact;";
     if (v.enters_failed) reason += "enters failed region;";
     if (v.short_unclear) reason += "short action not clear to its end;";
     if (config.max_progress > 0 && !(v.progress <= config.max_progress)) reason += "implausible motion;";

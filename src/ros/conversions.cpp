@@ -277,6 +277,7 @@ valerant::Verdict toMsg(const BranchVerdict& v, const std::vector<Eigen::Vector3
   msg.collision_pc = v.collision_pc;
   msg.collision_depth = v.collision_depth;
   msg.turn_in_contact = v.turn_in_contact;
+  msg.ends_in_contact = v.ends_in_contact;
   msg.occupied_max = static_cast<uint32_t>(v.occupied_max);
   msg.min_near_ratio = v.min_near_ratio;
   msg.body_counts.assign(v.body_counts.begin(), v.body_counts.end());
@@ -306,6 +307,7 @@ BranchVerdict fromMsg(const valerant::Verdict& msg) {
   v.collision_pc = msg.collision_pc;
   v.collision_depth = msg.collision_depth;
   v.turn_in_contact = msg.turn_in_contact;
+  v.ends_in_contact = msg.ends_in_contact;
   v.occupied_max = static_cast<int>(msg.occupied_max);
   v.min_near_ratio = msg.min_near_ratio;
   v.body_counts.assign(msg.body_counts.begin(), msg.body_counts.end());

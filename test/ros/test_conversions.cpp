@@ -200,6 +200,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   v.collision_pc = true;
   v.collision_depth = false;
   v.turn_in_contact = true;
+  v.ends_in_contact = true;
   v.occupied_max = 12;
   v.body_counts = {0, 3, 12, 7};
   v.start_occupied = 44;
@@ -224,6 +225,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   EXPECT_EQ(back.collision_depth, v.collision_depth);
   EXPECT_EQ(back.occupied_max, v.occupied_max);
   EXPECT_EQ(back.turn_in_contact, v.turn_in_contact);
+  EXPECT_EQ(back.ends_in_contact, v.ends_in_contact);
   EXPECT_EQ(back.body_counts, v.body_counts);
   EXPECT_EQ(back.start_occupied, v.start_occupied);
   EXPECT_EQ(back.min_near_ratio, v.min_near_ratio);

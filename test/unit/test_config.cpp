@@ -65,6 +65,7 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_EQ(c.collision.n_occ_immediate, 300);
   EXPECT_EQ(c.collision.turn_contact_points, 0);  // [ours], off: the paper exempts every turn
   EXPECT_EQ(c.collision.turn_start_points, 0);    // [ours], off
+  EXPECT_EQ(c.collision.end_clearance, 0.0);      // [ours], off
   EXPECT_NEAR(c.collision.center_fraction, 1.0 / 3.0, 1e-9);
   EXPECT_DOUBLE_EQ(c.collision.d_near, 0.455);
   EXPECT_DOUBLE_EQ(c.collision.s_min_coefficient, 0.085);

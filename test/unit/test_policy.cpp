@@ -101,17 +101,23 @@ TEST(Policy, ArgmaxOverAdmissibleWithDeterministicTies) {
   v[4].turn_in_contact = true;
   EXPECT_EQ(selectBranch(v, config), -1);
   EXPECT_EQ(v[4].reason, "turn in place while in contact");
+  // A translation that ends in contact ([ours], collision.end_clearance).
+  v[4].turn_in_contact = false;
+  v[4].ends_in_contact = true;
+  EXPECT_EQ(selectBranch(v, config), -1);
+  EXPECT_EQ(v[4].reason, "ends in contact");
 }
 
-// The verdicts scored as predicted collisions: either test, or a turn held back after a
-// contact; a lost track, the failed region or a short action's unclear end are not.
+// The verdicts scored as predicted collisions: either test, a turn held back after a
+// contact, or a translation ending in contact; a lost track, the failed region or a short action's unclear end are not.
 TEST(Policy, PredictedCollisionsAreTheTestsAndTurnsInContact) {
   BranchVerdict v;
   EXPECT_FALSE(v.predictsCollision());
   v.slam_lost = v.enters_failed = v.short_unclear = v.floor_unknown = true;
   EXPECT_FALSE(v.predictsCollision());
   for (bool BranchVerdict::*flag :
-       {&BranchVerdict::collision_pc, &BranchVerdict::collision_depth, &BranchVerdict::turn_in_contact}) {
+       {&BranchVerdict::collision_pc, &BranchVerdict::collision_depth, &BranchVerdict::turn_in_contact,
+        &BranchVerdict::ends_in_contact}) {
     BranchVerdict w;
     w.*flag = true;
     EXPECT_TRUE(w.predictsCollision());

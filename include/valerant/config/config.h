@@ -152,6 +152,13 @@ struct CollisionConfig {
   // the camera stands in contact, maybe inside a brush after a graze eq. 6 did not see
   // (docs/pockets.md). 0 = off (the paper).
   int turn_start_points = 0;
+  // [ours] > 0: a translation is inadmissible when N_occ points lie within this many eye
+  // heights of the body axis at its last frame (ends_in_contact, branch_check.h). Rho is
+  // the hull's inscribed radius (0.30); its corners reach 0.42, so a translation eq. 6
+  // passes can end with a corner in a brush, and the turns in place that follow stay
+  // there (the hull is axis-aligned: turning does not move it; docs/pockets.md). Only
+  // the end pose is held to it, where the agent stands afterwards. 0 = off (the paper).
+  double end_clearance = 0;
   double center_fraction = 1.0 / 3.0;
   double d_near = 0.455;
   double s_min_coefficient = 0.085;

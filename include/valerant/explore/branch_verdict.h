@@ -15,6 +15,9 @@ struct BranchVerdict {
   // in contact (collision.turn_contact_points) or with committed points inside the body
   // at its start (collision.turn_start_points; episode.h): the camera may stand inside a brush.
   bool turn_in_contact = false;
+  // [ours] A translation whose last frame has N_occ points within collision.end_clearance
+  // of the body axis (branch_check.h): it would leave the agent standing in contact.
+  bool ends_in_contact = false;
   int occupied_max = 0;
   double min_near_ratio = 0;
   // [ours] Diagnostics of eq. 6 (docs/inside_brush.md): count_i at rho for every frame
@@ -48,7 +51,7 @@ struct BranchVerdict {
   // Rejected as colliding: the outcome scored against the engine's truth (verdict
   // precision and recall) and drawn red. A turn after a contact counts: it is held back
   // for fear of solid.
-  bool predictsCollision() const { return collision_pc || collision_depth || turn_in_contact; }
+  bool predictsCollision() const { return collision_pc || collision_depth || turn_in_contact || ends_in_contact; }
 };
 
 }  // namespace valerant
