@@ -441,11 +441,11 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
                 loss, _, predicted, true, invented = window_loss(
                     model, rgb["train"], table, picks, flip, camera, depth["train"], args.gradient_weight,
                     adversarial_on, args.invented_weight if generator_on and args.invented_weight != 1 else None)
-            shown = None
+            shown, adversarial = None, None  # adversarial: the generator's term, when it joins the loss
             if adversarial_on:  # in fp32, outside autocast
                 shown = adversarial_sample(predicted, true, invented, args.adversarial_frames, generator)
             if shown is not None and generator_on:
-                fake, real, fake_invented = shown
+                fake, _, fake_invented = shown
                 adversarial = adversary.generator_term(fake, fake_invented)
                 loss = loss + args.adversarial_weight * adversarial
             optimizer.zero_grad(set_to_none=True)
@@ -455,14 +455,14 @@ def train(model, rgb, depth, tables, val_table, windows_val, val_runs, args, dev
                 optimizer.step()
                 loss_sum += loss.detach()
                 loss_steps += 1
-                if shown is not None and generator_on:
+                if adversarial is not None:
                     adversarial_mean.add(adversarial.detach())
             else:  # one bad window must not turn every weight into NaN
                 skipped_steps += 1
             if shown is not None:
                 fake, real, fake_invented = shown
                 adversarial_steps += 1
-                generator_steps += generator_on
+                generator_steps += adversarial is not None
                 d_loss = adversary.step(real, fake, fake_invented)
                 if d_loss is None:
                     discriminator_skipped += 1

@@ -95,8 +95,11 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     // Eq. 6 at rho; a prefix also keeps prefix_clearance from the branch's points: rho
     // leaves the Quake III hull (0.30 to 0.42 eye heights from its axis) touching what
     // eq. 6 passes.
+    // counts[i] holds the counts at radii[i]: rho first, then the optional radii.
     std::vector<double> radii = {config_.body_radius};
+    const size_t prefix_radius = radii.size();
     if (config_.prefix_commits) radii.push_back(config_.prefix_clearance);
+    const size_t end_radius = radii.size();
     const bool end_checked = config_.end_clearance > 0 && !rotation_only;
     if (end_checked) radii.push_back(config_.end_clearance);
     const std::vector<std::vector<int>> counts = bodyCylinderCounts(points, floors, config_, radii);
@@ -105,17 +108,17 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     v.occupied_max = pc.occupied_max;
     v.body_counts = counts.front();
     if (pc.collision) unsafeAt(pc.run_start);
-    if (end_checked && !counts.back().empty() && counts.back().back() >= config_.n_occ) {
+    if (end_checked && !counts[end_radius].empty() && counts[end_radius].back() >= config_.n_occ) {
       // The end pose is in contact: unsafe from the start of the run of samples in
       // contact that reaches it, so a prefix stops short of that run.
-      const std::vector<int>& end = counts.back();
+      const std::vector<int>& end = counts[end_radius];
       size_t first = end.size() - 1;
       while (first > 0 && end[first - 1] >= config_.n_occ) --first;
       v.ends_in_contact = true;
       unsafeAt(static_cast<int>(first));
     }
     if (config_.prefix_commits) {
-      const std::vector<int>& wide = counts[1];
+      const std::vector<int>& wide = counts[prefix_radius];
       for (size_t i = 0; i < wide.size(); ++i)
         if (wide[i] >= config_.n_occ) {
           unsafeAt(static_cast<int>(i));
