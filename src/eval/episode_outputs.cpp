@@ -12,6 +12,7 @@
 #include "valerant/eval/episode_truth.h"
 #include "valerant/eval/map_accuracy.h"
 #include "valerant/eval/spawn_departure.h"
+#include "valerant/eval/trap_figures.h"
 #include "valerant/eval/trajectory_metrics.h"
 #include "valerant/explore/episode_json.h"
 #include "valerant/explore/stage_seconds.h"
@@ -100,7 +101,8 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
           {"truly_colliding", truth.truly_colliding},
           {"predicted_colliding", truth.predicted_colliding},
           {"false_rejections", truth.false_rejections},
-          {"missed_collisions", truth.missed_collisions}};
+          {"missed_collisions", truth.missed_collisions},
+          {"clean_blocked_by_failed_region", cleanTranslationsBlockedByFailedRegion(episode.history())}};
 }
 
 // Closures made (each with its numbers) and verified candidates rejected, counted by
@@ -229,6 +231,7 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   report["steps"] = episode.history().size();
   report["rewinds"] = episode.rewinds();
   report["first_translation_step"] = firstTranslationStep(episode.history());  // 0: none (spawn_departure.h)
+  report["final_turn_streak"] = finalTurnStreak(episode.history());  // steps turning in place at the end (trap_figures.h)
   report["stuck"] = episode.stuck();  // ended early: a stall with no rewind left (episode.h)
   report["failed_cells"] = episode.failed().cells().size();
   report["map_points"] = cloud.size();

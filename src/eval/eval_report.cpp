@@ -101,12 +101,12 @@ std::string described(const nlohmann::json& v) {
 
 // The top-level and ground_truth figures the report reads (numbers, or null: not recorded).
 const char* const kReportNumbers[] = {"committed_steps", "rewinds", "wall_seconds", "frames_rendered",
-                                      "first_translation_step"};
+                                      "first_translation_step", "final_turn_streak"};
 const char* const kGroundTruthNumbers[] = {
     "observed_reachable_percent", "observed_reachable_m2", "penetration_free_steps", "penetrations",
     "discarded_penetrations",     "false_rejections",      "missed_collisions",      "predicted_colliding",
     "truly_colliding",            "ate_percent",           "accuracy_median_m",      "accuracy_p90_m",
-    "completeness_percent"};
+    "completeness_percent",       "clean_blocked_by_failed_region"};
 
 // The mean of `curves` at every index up to the longest; a curve that ended keeps its
 // last value, so the mean is over every curve at every index and never drops because
@@ -210,7 +210,8 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     s.config = config;
     std::vector<std::vector<double>> curves, committed_curves, wall_curves;
     Mean observed_percent, observed_m2, per_clean_step, penetrations, outside_world, clip_only, discarded, rewinds, false_rejections, missed,
-        ate, accuracy, completeness, wall, frames_per_second, committed_steps, per_step, left_spawn;
+        ate, accuracy, completeness, wall, frames_per_second, committed_steps, per_step, left_spawn,
+        penetrations_per_step, final_streak, blocked_by_failed;
     std::map<std::string, Mean> stages;
     // Verdicts of the runs that record both figures of a ratio.
     double predicted = 0, predicted_wrongly = 0, truly = 0, truly_missed = 0;
@@ -249,6 +250,12 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
         const double first = number(j, "first_translation_step");  // 0: never translated
         left_spawn.add(first >= 1 && first <= kSpawnDepartureSteps ? 100.0 : 0.0);
       }
+      if (hasNumber(j, "committed_steps") && hasNumber(g, "penetrations")) {
+        const double steps = number(j, "committed_steps");
+        penetrations_per_step.add(steps > 0 ? number(g, "penetrations") / steps : 0.0);
+      }
+      final_streak.addField(j, "final_turn_streak");
+      blocked_by_failed.addField(g, "clean_blocked_by_failed_region");
       if (hasNumber(j, "committed_steps") && hasNumber(g, "observed_reachable_m2")) {
         const double steps = number(j, "committed_steps");
         per_step.add(steps > 0 ? number(g, "observed_reachable_m2") / steps : 0.0);
@@ -299,6 +306,9 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     s.committed_steps = committed_steps.value();
     s.observed_m2_per_step = per_step.value();
     s.left_spawn_percent = left_spawn.value();
+    s.penetrations_per_committed_step = penetrations_per_step.value();
+    s.final_turn_streak = final_streak.value();
+    s.clean_blocked_by_failed_region = blocked_by_failed.value();
     for (const auto& [stage, seconds] : stages) s.stage_seconds[stage] = seconds.value();
     if (predicted > 0) s.verdict_precision = (predicted - predicted_wrongly) / predicted;
     if (truly > 0) s.verdict_recall = (truly - truly_missed) / truly;
@@ -316,7 +326,8 @@ namespace {
 const char* const kResultsCsvHeader =
     "map,spawn,config,ok,committed_steps,rewinds,first_translation_step,observed_reachable_percent,observed_reachable_m2,"
     "penetrations,penetrations_in_solid,penetrations_outside_world,penetrations_clip_only,discarded_penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,"
-    "accuracy_median_m,accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,error";
+    "accuracy_median_m,accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,final_turn_streak,"
+    "clean_blocked_by_failed_region,error";
 
 // "map,spawn,config" of a results.csv row: what identifies its run.
 std::string runKey(const std::string& row) {
@@ -374,7 +385,8 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
         {&g, "penetrations_outside_world"}, {&g, "penetrations_clip_only"}, {&g, "discarded_penetrations"},
         {&g, "penetration_free_steps"}, {&g, "false_rejections"}, {&g, "missed_collisions"},
         {&g, "ate_percent"},           {&g, "accuracy_median_m"}, {&g, "accuracy_p90_m"},
-        {&g, "completeness_percent"},  {&j, "wall_seconds"},      {&j, "frames_rendered"}};
+        {&g, "completeness_percent"},  {&j, "wall_seconds"},      {&j, "frames_rendered"},
+        {&j, "final_turn_streak"},     {&g, "clean_blocked_by_failed_region"}};
     out << r.run.map << ',' << r.run.spawn << ',' << r.run.config << ',' << r.ok;
     for (const auto& [source, key] : fields) {
       out << ',';
@@ -436,11 +448,16 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "with no cluster: through an outer wall); the next column counts the latter alone, the one after it "
         "those whose hull is in nodraw player-clip brushes alone (they stop the player but draw nothing, so no camera "
         "sees them); discarded ones count those of committed steps that a later rewind threw away (they "
-        "are not on the final trajectory, but the agent did commit them).\n\n"
+        "are not on the final trajectory, but the agent did commit them). Penetrations per committed step compare "
+        "budgets. The final turn streak counts the steps at the end of a run that only turned in place or "
+        "stalled, after its last translation or rewind; the last column counts translations that only the "
+        "failed-region memory F rejected although they stayed out of solid: together they show a run ending "
+        "trapped.\n\n"
      << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | "
         "of them outside the world | of them in invisible clips | discarded penetrations | rewinds | false rejections | missed collisions | verdict precision | verdict recall | ATE % | accuracy median m | "
-        "completeness % | s / run | frames/s | left the spawn within " << kSpawnDepartureSteps << " steps % |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "completeness % | s / run | frames/s | left the spawn within " << kSpawnDepartureSteps << " steps % | "
+        "penetrations / committed step | final turn streak (steps) | clean translations only F rejected |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : summaries) {
     md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << mean(s.observed_percent) << " | "
        << mean(s.observed_m2) << " | " << mean(s.observed_m2_per_clean_step, 2) << " | " << mean(s.penetrations)
@@ -449,7 +466,9 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
        << " | " << mean(s.missed_collisions) << " | " << ratio(s.verdict_precision) << " | "
        << ratio(s.verdict_recall) << " | " << mean(s.ate_percent, 2) << " | " << mean(s.accuracy_median_m, 3)
        << " | " << mean(s.completeness_percent) << " | " << mean(s.wall_seconds) << " | "
-       << mean(s.frames_per_second) << " | " << mean(s.left_spawn_percent, 0) << " |\n";
+       << mean(s.frames_per_second) << " | " << mean(s.left_spawn_percent, 0) << " | "
+       << mean(s.penetrations_per_committed_step, 2) << " | " << mean(s.final_turn_streak) << " | "
+       << mean(s.clean_blocked_by_failed_region) << " |\n";
   }
   md << "\nVerdict precision: of the candidates the tests rejected as colliding, the share whose player hull "
         "really enters solid; recall: of the candidates that really enter solid, the share rejected.\n\n"
@@ -483,12 +502,12 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
   for (const auto& s : summaries) md << "[" << s.config << "](" << plots_prefix << "topdowns_" << s.config << ".png) ";
   md << "\n\n| map | spawn | config | reachable observed % | m2 | committed steps | penetrations | "
         "of them outside the world | of them in invisible clips | discarded penetrations | rewinds | "
-        "first translation (step) |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "first translation (step) | final turn streak |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     if (!r.ok) {
       md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | failed: " << cell(r.error)
-         << " | | | | | | | | |\n";
+         << " | | | | | | | | | |\n";
       continue;
     }
     const auto& g = field(r.report, "ground_truth");
@@ -497,7 +516,7 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
        << recorded(r.report, "committed_steps") << " | " << recorded(g, "penetrations") << " | "
        << recorded(g, "penetrations_outside_world") << " | " << recorded(g, "penetrations_clip_only") << " | "
        << recorded(g, "discarded_penetrations") << " | " << recorded(r.report, "rewinds") << " | "
-       << firstTranslationCell(r.report) << " |\n";
+       << firstTranslationCell(r.report) << " | " << recorded(r.report, "final_turn_streak") << " |\n";
   }
   return md.str();
 }

@@ -443,7 +443,7 @@ TEST(EvalReport, MalformedReportsAreFailedRowsWithTheirReason) {
   std::string line;
   std::getline(csv, line);  // header
   std::getline(csv, line);
-  EXPECT_EQ(line.substr(0, line.find('"')), "missing,0,full,0,,,,,,,,,,,,,,,,,,,,");  // blank, not 0
+  EXPECT_EQ(line.substr(0, line.find('"')), "missing,0,full,0,,,,,,,,,,,,,,,,,,,,,,");  // blank, not 0
 }
 
 TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
@@ -480,9 +480,9 @@ TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
   std::vector<std::string> lines;
   for (std::string line; std::getline(csv, line);) lines.push_back(line);
   ASSERT_EQ(lines.size(), 4u);
-  EXPECT_EQ(lines[1], "m,0,full,1,,,,,,,,,,,,,,,,,,,,\"\"");
-  EXPECT_EQ(lines[2], "m,1,full,1,,,,10,,,,,,,,,,,,,,,,\"\"");
-  EXPECT_EQ(lines[3], "m,2,full,0,,,,,,,,,,,,,,,,,,,,\"/o/report.json: field 'x\"\"y|z' is null\"");
+  EXPECT_EQ(lines[1], "m,0,full,1,,,,,,,,,,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[2], "m,1,full,1,,,,10,,,,,,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[3], "m,2,full,0,,,,,,,,,,,,,,,,,,,,,,\"/o/report.json: field 'x\"\"y|z' is null\"");
   // A report of any shape that skipped readEvalResult still does not throw.
   EvalResult odd = bare;
   odd.report = nlohmann::json::array({1, 2});
@@ -539,7 +539,7 @@ TEST(EvalReport, RunsThatLeaveTheirSpawnWithinFiveSteps) {
   EXPECT_DOUBLE_EQ(s[0].left_spawn_percent, 50.0);
   const std::string md = markdownReport(s, results, "cmd", "");
   EXPECT_NE(md.find("| left the spawn within 5 steps % |"), std::string::npos);
-  EXPECT_NE(md.find("| - | 50 |\n"), std::string::npos) << md;  // frames/s unrecorded, then the share
+  EXPECT_NE(md.find("| - | 50 | - | - | - |\n"), std::string::npos) << md;  // frames/s unrecorded, the share, then unrecorded
   EXPECT_NE(md.find("| m | 1 | full | - | - | - | - | - | - | - | 0 | 5 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| m | 3 | full | - | - | - | - | - | - | - | 0 | none |"), std::string::npos);
   EXPECT_NE(md.find("| m | 4 | full | - | - | - | - | - | - | - | 0 | - |"), std::string::npos);
@@ -552,4 +552,48 @@ TEST(EvalReport, RunsThatLeaveTheirSpawnWithinFiveSteps) {
   std::getline(csv, row);
   EXPECT_NE(header.find(",rewinds,first_translation_step,"), std::string::npos);
   EXPECT_EQ(row.substr(0, 15), "m,0,full,1,,0,1");
+}
+
+TEST(EvalReport, PenetrationsPerCommittedStepAndHowRunsEndTrapped) {
+  auto run = [](int spawn, nlohmann::json report) {
+    EvalResult r;
+    r.run = {"m", spawn, "full", "/o"};
+    r.ok = true;
+    r.report = std::move(report);
+    return r;
+  };
+  // 30 in-solid frames in 15 committed steps (2 a step) and 0 in 150 (0): 1.00 a step.
+  // Final streaks of 140 and 0 steps (70), and 655 and 1 clean translations only F
+  // rejected (328); the third report predates all three figures and counts in none.
+  const std::vector<EvalResult> results = {
+      run(0, {{"committed_steps", 15},
+              {"final_turn_streak", 140},
+              {"ground_truth", {{"penetrations", 30}, {"clean_blocked_by_failed_region", 655}}}}),
+      run(1, {{"committed_steps", 150},
+              {"final_turn_streak", 0},
+              {"ground_truth", {{"penetrations", 0}, {"clean_blocked_by_failed_region", 1}}}}),
+      run(2, {{"ground_truth", {{"penetrations", 9}}}})};
+  const auto s = summarise(results, {"full"});
+  EXPECT_DOUBLE_EQ(s[0].penetrations_per_committed_step, 1.0);
+  EXPECT_DOUBLE_EQ(s[0].final_turn_streak, 70.0);
+  EXPECT_DOUBLE_EQ(s[0].clean_blocked_by_failed_region, 328.0);
+  const std::string md = markdownReport(s, results, "cmd", "");
+  EXPECT_NE(md.find("| penetrations / committed step | final turn streak (steps) | clean translations only F rejected |"),
+            std::string::npos) << md;
+  EXPECT_NE(md.find("| 1.00 | 70.0 | 328.0 |\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| - | 140 |\n"), std::string::npos) << md;  // run 0: first translation unrecorded, its streak
+  EXPECT_NE(md.find("| m | 2 | full | - | - | - | 9 | - | - | - | - | - | - |\n"), std::string::npos) << md;
+  const std::string path = ::testing::TempDir() + "/valerant_trap_results.csv";
+  std::remove(path.c_str());
+  writeResultsCsv(path, results);
+  std::ifstream csv(path);
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_NE(header.find(",frames_rendered,final_turn_streak,clean_blocked_by_failed_region,error"), std::string::npos);
+  EXPECT_NE(row.find(",140,655,\"\""), std::string::npos) << row;
+  // A streak that is not a number names the field.
+  EXPECT_NE(reportProblem({{"final_turn_streak", "long"}, {"ground_truth", nlohmann::json::object()}}, "r.json")
+                .find("final_turn_streak"),
+            std::string::npos);
 }

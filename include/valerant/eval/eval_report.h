@@ -49,6 +49,12 @@ struct ConfigSummary {
   // Share of the runs that committed a translation within the first kSpawnDepartureSteps
   // exploration steps (spawn_departure.h), in percent.
   double left_spawn_percent = -1;
+  // Penetrations divided by committed steps, a mean over runs: comparable between budgets
+  // (issue 25: a 150-step grid no worse per step than the 15-step one).
+  double penetrations_per_committed_step = -1;
+  // How runs end trapped (trap_figures.h): steps turning in place after the last
+  // translation or rewind, and clean translations that only F rejected.
+  double final_turn_streak = -1, clean_blocked_by_failed_region = -1;
   // Collision verdicts against ground truth ("this candidate would enter solid"), summed
   // over every verdict of every run before dividing (micro average); -1 when undefined.
   double verdict_precision = -1, verdict_recall = -1;

@@ -1,0 +1,22 @@
+#pragma once
+// Two figures of how an episode ends trapped (docs/pockets.md): turning in place step
+// after step, with every way out either colliding or walled off by the failed-region
+// memory F. Both were counted by hand from decisions.jsonl for every 150-step grid; the
+// report now carries them.
+#include <vector>
+
+#include "valerant/explore/episode.h"
+
+namespace valerant {
+
+// Steps at the end of `history` that committed a turn in place or stalled, after the
+// last step that committed a translation or rewound (a rewind moves the agent): 0 when
+// the last step translated or rewound, the whole history when none ever did.
+int finalTurnStreak(const std::vector<StepRecord>& history);
+
+// Translation candidates whose only objection was F ("enters failed region", policy.cpp)
+// and whose frames all stayed out of solid by the engine's truth: clean ways out that F
+// alone walled off. Candidates without truth are not counted.
+int cleanTranslationsBlockedByFailedRegion(const std::vector<StepRecord>& history);
+
+}  // namespace valerant

@@ -1,0 +1,31 @@
+#include "valerant/eval/trap_figures.h"
+
+#include <algorithm>
+
+namespace valerant {
+
+int finalTurnStreak(const std::vector<StepRecord>& history) {
+  int streak = 0;
+  for (auto it = history.rbegin(); it != history.rend(); ++it) {
+    const bool translated =
+        it->chosen >= 0 && !it->candidates.at(static_cast<size_t>(it->chosen)).verdict.rotation_only;
+    if (translated || it->rewind) break;
+    ++streak;
+  }
+  return streak;
+}
+
+int cleanTranslationsBlockedByFailedRegion(const std::vector<StepRecord>& history) {
+  int blocked = 0;
+  for (const StepRecord& step : history)
+    for (const CandidateRecord& c : step.candidates) {
+      const BranchVerdict& v = c.verdict;
+      // The reason lists every objection the policy had (selectBranch), so F alone is
+      // the flag set and nothing else named.
+      if (v.rotation_only || !v.enters_failed || v.reason != "enters failed region" || c.truth.empty()) continue;
+      blocked += std::none_of(c.truth.begin(), c.truth.end(), [](const FrameTruth& f) { return f.in_solid; });
+    }
+  return blocked;
+}
+
+}  // namespace valerant

@@ -1,0 +1,70 @@
+// How an episode ends trapped (trap_figures.h), on hand-made histories.
+#include <gtest/gtest.h>
+
+#include "valerant/eval/trap_figures.h"
+
+using namespace valerant;
+
+namespace {
+
+enum class Move { kTurn, kTranslation, kStall };
+
+// Exploration step `number` that commits a turn in place, a translation, or stalls;
+// `rewind`: the step ended in a rewind.
+StepRecord step(int number, Move move, bool rewind = false) {
+  StepRecord s;
+  s.step = number;
+  CandidateRecord turn, walk;
+  turn.verdict.rotation_only = true;
+  s.candidates = {turn, walk};
+  s.chosen = move == Move::kTurn ? 0 : move == Move::kTranslation ? 1 : -1;
+  s.rewind = rewind;
+  return s;
+}
+
+// A candidate with `frames` frames of truth, the in-solid ones at `in_solid` indices,
+// rejected for `reason` (the flag of F set when the reason names it).
+CandidateRecord candidate(bool rotation_only, const std::string& reason, int frames, std::vector<int> in_solid = {}) {
+  CandidateRecord c;
+  c.verdict.rotation_only = rotation_only;
+  c.verdict.reason = reason;
+  c.verdict.admissible = reason.empty();
+  c.verdict.enters_failed = reason.find("enters failed region") != std::string::npos;
+  c.truth.resize(static_cast<size_t>(frames));
+  for (int i : in_solid) c.truth[static_cast<size_t>(i)].in_solid = true;
+  return c;
+}
+
+}  // namespace
+
+TEST(TrapFigures, TheFinalStreakCountsTurnsAndStallsAfterTheLastTranslationOrRewind) {
+  // Translation, turn, turn with a rewind, then turn, stall, turn: 3 steps from step 4.
+  EXPECT_EQ(finalTurnStreak({step(1, Move::kTranslation), step(2, Move::kTurn), step(3, Move::kTurn, true),
+                             step(4, Move::kTurn), step(5, Move::kStall), step(6, Move::kTurn)}),
+            3);
+  // The last step translated: no streak; it rewound: none either.
+  EXPECT_EQ(finalTurnStreak({step(1, Move::kTurn), step(2, Move::kTranslation)}), 0);
+  EXPECT_EQ(finalTurnStreak({step(1, Move::kTranslation), step(2, Move::kTurn, true)}), 0);
+}
+
+TEST(TrapFigures, AHistoryThatNeverTranslatedIsOneStreak) {
+  EXPECT_EQ(finalTurnStreak({}), 0);
+  EXPECT_EQ(finalTurnStreak({step(1, Move::kTurn), step(2, Move::kStall), step(3, Move::kTurn)}), 3);
+}
+
+TEST(TrapFigures, CleanTranslationsThatOnlyTheFailedRegionRejected) {
+  StepRecord a, b;
+  a.candidates = {
+      candidate(false, "enters failed region", 4),                        // counted: clean, F alone
+      candidate(false, "enters failed region", 4, {3}),                   // its last frame in solid
+      candidate(false, "point-cloud collision;enters failed region", 4),  // another objection too
+      candidate(true, "enters failed region", 4),                         // a turn
+      candidate(false, "", 4),                                            // admissible
+  };
+  b.candidates = {
+      candidate(false, "enters failed region", 0),   // no truth: not judged
+      candidate(false, "enters failed region", 57),  // counted
+  };
+  EXPECT_EQ(cleanTranslationsBlockedByFailedRegion({a, b}), 2);
+  EXPECT_EQ(cleanTranslationsBlockedByFailedRegion({}), 0);
+}
