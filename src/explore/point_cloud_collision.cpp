@@ -23,8 +23,10 @@ std::vector<std::vector<int>> bodyCylinderCounts(const std::vector<HeightedPoint
   for (const auto& p : points)
     if (countedInBody(p.h, p.confidence, config) && p.position.allFinite())
       body.push_back(p.position);
-  // The cell size from the smallest radius: a larger one only searches a wider box.
-  const BodyPointIndex index(body, samples, *std::min_element(radii.begin(), radii.end()));
+  // The cell size from the smallest radius: a larger one only searches a wider box; the
+  // points no sample reaches at the largest are left out.
+  const BodyPointIndex index(body, samples, *std::min_element(radii.begin(), radii.end()),
+                             *std::max_element(radii.begin(), radii.end()));
   for (double radius : radii) {
     std::vector<int>& at_radius = counts.emplace_back();
     at_radius.reserve(samples.size());

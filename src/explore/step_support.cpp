@@ -27,7 +27,8 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
   std::vector<SteppedCounts> out(radii.size());
   if (radii.empty()) return out;
   // Every confident point can count or carry the body, at any height (the support can
-  // climb); one index for all radii, its cells from the smallest. A non-finite point
+  // climb); one index for all radii, its cells from the smallest, holding the points the
+  // largest reaches. A non-finite point
   // is never within the radius.
   std::vector<const HeightedPoint*> confident;
   std::vector<Eigen::Vector3d> positions;
@@ -36,7 +37,8 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
       confident.push_back(&p);
       positions.push_back(p.position);
     }
-  const BodyPointIndex index(positions, samples, *std::min_element(radii.begin(), radii.end()));
+  const BodyPointIndex index(positions, samples, *std::min_element(radii.begin(), radii.end()),
+                             *std::max_element(radii.begin(), radii.end()));
   const std::vector<double> eye_supports = eyeSupports(samples);
   for (size_t r = 0; r < radii.size(); ++r) {
     double support = 0;

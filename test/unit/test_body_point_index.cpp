@@ -74,3 +74,43 @@ TEST(BodyPointIndex, EqualsBruteForceOnRandomClouds) {
     }
   }
 }
+
+TEST(BodyPointIndex, BoundedByTheLargestRadiusItKeepsEveryCountOfItsSamples) {
+  // The random clouds of the test above, with a map-sized spread of points (the committed
+  // steps' points) around a short path: indexed for radii up to 1.5, the counts of the
+  // index's own samples at 0.3, 0.42 and 1.5 equal the brute-force ones, whether it
+  // drops far points or, where a sample is tilted past 60 deg, keeps them all.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    const double scale = trial % 2 ? 0.05 : 3.0;
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < 4000; ++i)
+      points.push_back(scale * Eigen::Vector3d(40 * uniform(rng), 40 * uniform(rng), 1.5 * uniform(rng) + 0.75));
+    if (trial % 3 == 0) points.push_back(scale * Eigen::Vector3d(3000, -2000, 40));
+    const Eigen::Vector3d up = Eigen::Vector3d(0.1 * uniform(rng), 0.1 * uniform(rng), 1).normalized();
+    std::vector<FloorPlane> samples;
+    for (int i = 0; i < 40; ++i) {
+      const double tilt = trial % 4 == 1 && i == 20 ? 3.0 : 0.45;
+      const Eigen::Vector3d n = (up + tilt * Eigen::Vector3d(uniform(rng), uniform(rng), 0)).normalized();
+      const Eigen::Vector3d c = scale * Eigen::Vector3d(0.1 * i + 0.3 * uniform(rng), 0.3 * uniform(rng), 1);
+      samples.push_back(sampleAt(c, n, i == 11 ? -scale : scale));
+    }
+    const BodyPointIndex index(points, samples, 0.3, 1.5);
+    for (const double radius : {0.3, 0.42, 1.5})
+      for (size_t i = 0; i < samples.size(); ++i)
+        ASSERT_EQ(index.count(samples[i], radius), bruteForce(points, samples[i], radius))
+            << "trial " << trial << " radius " << radius << " sample " << i;
+  }
+}
+
+TEST(BodyPointIndex, ARadiusOverTheBoundIsAnError) {
+  const std::vector<Eigen::Vector3d> points = {{0.3, 0, 0.5}, {5, 0, 0.5}};
+  const FloorPlane s = sampleAt({0, 0, 1}, Eigen::Vector3d::UnitZ(), 1);
+  const BodyPointIndex index(points, {s}, 0.5, 1.0);
+  // (5, 0, 0.5) is 5 from the only axis: dropped; (0.3, 0, 0.5) counts at 0.5 and 1.0.
+  EXPECT_EQ(index.count(s, 0.5), 1);
+  EXPECT_EQ(index.count(s, 1.0), 1);
+  EXPECT_THROW(index.count(s, 1.01), std::invalid_argument);
+  EXPECT_THROW(BodyPointIndex(points, {s}, 0.5, 0.4), std::invalid_argument);
+}

@@ -12,6 +12,13 @@
 // there get the exact test. The counts are exactly the brute-force counts (the box is
 // a conservative bound with a margin for rounding); a sample tilted more than 60 deg
 // from n0 is counted by brute force.
+//
+// Told the largest radius it will be asked for, the index keeps only the points inside
+// some sample's box at that radius: the committed steps' points cover the map around the
+// branch, most of them far from its path, and sorting them all for every candidate made
+// the collision stage of 150-step visual runs as costly as the SLAM. The dropped points
+// lie outside every box, so no count changes; where some sample would be counted by brute
+// force, every point is kept.
 #include <Eigen/Core>
 #include <cstddef>
 #include <vector>
@@ -23,11 +30,16 @@ namespace valerant {
 class BodyPointIndex {
  public:
   // `points`: finite positions; `radius`: normalised (rho), sets the cell size from the
-  // first sample with a positive camera height.
-  BodyPointIndex(const std::vector<Eigen::Vector3d>& points, const std::vector<FloorPlane>& samples, double radius);
+  // first sample with a positive camera height; `max_radius` (>= radius, or 0: no
+  // bound), the largest radius any count will use, lets the index drop the points no
+  // sample's cylinder of that radius can reach: its counts are then exact for the
+  // samples given here only.
+  BodyPointIndex(const std::vector<Eigen::Vector3d>& points, const std::vector<FloorPlane>& samples, double radius,
+                 double max_radius = 0);
 
-  // count_i for one sample (0 where its camera height is not positive), at any radius
-  // (a radius larger than the constructor's only makes the searched box wider).
+  // count_i for one sample (0 where its camera height is not positive), at any radius up
+  // to max_radius (a radius larger than the constructor's only makes the searched box
+  // wider; one over max_radius is a std::invalid_argument).
   int count(const FloorPlane& sample, double radius) const;
 
   // Calls visit(k) for the index k (into the constructor's `points`) of every point
@@ -42,20 +54,30 @@ class BodyPointIndex {
     Eigen::Vector3d position;
     size_t index;  // into the constructor's points
   };
+  // The span of the sample's cylinder of `radius` across n0, along e1 (a) and e2 (b), for
+  // points in the slab [u_min, u_max]; false where the sample is counted by brute force.
+  bool span(const FloorPlane& sample, double radius, double* a_lo, double* a_hi, double* b_lo, double* b_hi) const;
   // The cells [ix0, ix1] x [iy0, iy1] that can hold the sample's points, or false where
   // the sample is searched by brute force; radius2 = (radius kappa)^2.
   bool searchBox(const FloorPlane& sample, double radius, long long box[4], double* radius2) const;
+  // Throws std::invalid_argument for a radius over max_radius_.
+  void checkRadius(double radius) const;
+  // Drops the binned points outside the bounding box of every sample's span at
+  // max_radius_ (none where a sample with a floor has no span).
+  void keepReachable(const std::vector<FloorPlane>& samples);
   // The first binned point at or after cell (ix, iy).
   std::vector<Binned>::const_iterator firstAt(long long ix, long long iy) const;
 
   std::vector<Binned> binned_;  // sorted by (ix, iy)
   Eigen::Vector3d n0_, e1_, e2_;
   double cell_ = 0, u_min_ = 0, u_max_ = 0;
+  double max_radius_ = 0;  // 0: every radius
   bool indexed_ = false;  // false: every sample is counted by brute force
 };
 
 template <class Visit>
 void BodyPointIndex::forEachWithin(const FloorPlane& sample, double radius, Visit&& visit) const {
+  checkRadius(radius);
   const double kappa = sample.cameraHeight();
   if (!(kappa > 0)) return;
   long long box[4];
