@@ -12,6 +12,22 @@
 
 using namespace valerant;
 
+namespace {
+
+// results.csv's header and first row for `results`, written afresh under `name`.
+std::pair<std::string, std::string> csvHeaderAndFirstRow(const std::vector<EvalResult>& results, const std::string& name) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::remove(path.c_str());
+  writeResultsCsv(path, results);
+  std::ifstream csv(path);
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  return {header, row};
+}
+
+}  // namespace
+
 TEST(EvalGrid, RunsAndOptions) {
   const auto runs = makeEvalGrid({"oa_dm1", "oa_dm4"}, 3, {"full", "oracle", "no-col"}, "/o");
   ASSERT_EQ(runs.size(), 18u);
@@ -543,13 +559,7 @@ TEST(EvalReport, RunsThatLeaveTheirSpawnWithinFiveSteps) {
   EXPECT_NE(md.find("| m | 1 | full | - | - | - | - | - | - | - | 0 | 5 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| m | 3 | full | - | - | - | - | - | - | - | 0 | none |"), std::string::npos);
   EXPECT_NE(md.find("| m | 4 | full | - | - | - | - | - | - | - | 0 | - |"), std::string::npos);
-  const std::string path = ::testing::TempDir() + "/valerant_departure_results.csv";
-  std::remove(path.c_str());
-  writeResultsCsv(path, results);
-  std::ifstream csv(path);
-  std::string header, row;
-  std::getline(csv, header);
-  std::getline(csv, row);
+  const auto [header, row] = csvHeaderAndFirstRow(results, "valerant_departure_results.csv");
   EXPECT_NE(header.find(",rewinds,first_translation_step,"), std::string::npos);
   EXPECT_EQ(row.substr(0, 15), "m,0,full,1,,0,1");
 }
@@ -583,13 +593,7 @@ TEST(EvalReport, PenetrationsPerCommittedStepAndHowRunsEndTrapped) {
   EXPECT_NE(md.find("| 1.00 | 70.0 | 328.0 |\n"), std::string::npos) << md;
   EXPECT_NE(md.find("| - | 140 |\n"), std::string::npos) << md;  // run 0: first translation unrecorded, its streak
   EXPECT_NE(md.find("| m | 2 | full | - | - | - | 9 | - | - | - | - | - | - |\n"), std::string::npos) << md;
-  const std::string path = ::testing::TempDir() + "/valerant_trap_results.csv";
-  std::remove(path.c_str());
-  writeResultsCsv(path, results);
-  std::ifstream csv(path);
-  std::string header, row;
-  std::getline(csv, header);
-  std::getline(csv, row);
+  const auto [header, row] = csvHeaderAndFirstRow(results, "valerant_trap_results.csv");
   EXPECT_NE(header.find(",frames_rendered,final_turn_streak,clean_blocked_by_failed_region,error"), std::string::npos);
   EXPECT_NE(row.find(",140,655,\"\""), std::string::npos) << row;
   // A streak that is not a number names the field.
