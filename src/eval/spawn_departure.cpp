@@ -2,9 +2,13 @@
 
 namespace valerant {
 
+bool committedTranslation(const StepRecord& step) {
+  return step.chosen >= 0 && !step.candidates.at(static_cast<size_t>(step.chosen)).verdict.rotation_only;
+}
+
 int firstTranslationStep(const std::vector<StepRecord>& history) {
   for (const StepRecord& s : history)
-    if (s.chosen >= 0 && !s.candidates.at(static_cast<size_t>(s.chosen)).verdict.rotation_only) return s.step;
+    if (committedTranslation(s)) return s.step;
   return 0;
 }
 

@@ -2,14 +2,14 @@
 
 #include <algorithm>
 
+#include "valerant/eval/spawn_departure.h"
+
 namespace valerant {
 
 int finalTurnStreak(const std::vector<StepRecord>& history) {
   int streak = 0;
   for (auto it = history.rbegin(); it != history.rend(); ++it) {
-    const bool translated =
-        it->chosen >= 0 && !it->candidates.at(static_cast<size_t>(it->chosen)).verdict.rotation_only;
-    if (translated || it->rewind) break;
+    if (committedTranslation(*it) || it->rewind) break;
     ++streak;
   }
   return streak;

@@ -12,6 +12,9 @@ namespace valerant {
 
 constexpr int kSpawnDepartureSteps = 5;
 
+// Whether `step` committed a translation: a candidate that is not a turn in place.
+bool committedTranslation(const StepRecord& step);
+
 // 0 when no step of `history` committed a translation.
 int firstTranslationStep(const std::vector<StepRecord>& history);
 
