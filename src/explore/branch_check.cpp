@@ -1,5 +1,6 @@
 #include "valerant/explore/branch_check.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -40,6 +41,26 @@ std::vector<FloorPlane> BranchCheck::floors() const {
   return out;
 }
 
+std::optional<PlaneBox> BranchCheck::reachOfAll(const std::vector<FloorPlane>& floors, double radius) const {
+  const FloorPlane* reference = referenceSample(floors);
+  if (!reference) return std::nullopt;
+  const BodyReach frame(*reference);
+  double u_min = std::numeric_limits<double>::infinity(), u_max = -u_min;
+  auto extend = [&](const Eigen::Vector3f& position) {
+    const Eigen::Vector3d x = position.cast<double>();
+    if (!x.allFinite()) return;  // never counted
+    const double u = frame.along(x);
+    u_min = std::min(u_min, u);
+    u_max = std::max(u_max, u);
+  };
+  for (const KeyframePoints& kf : keyframes_)
+    for (const auto& p : kf.points) extend(p.position);
+  for (const auto& step : committed_)
+    for (const auto& p : *step) extend(p.position);
+  if (!(u_min <= u_max)) return std::nullopt;
+  return frame.spanOfAll(floors, radius, u_min, u_max);
+}
+
 BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_only) const {
   BranchVerdict v;
   v.candidate = candidate;
@@ -68,12 +89,30 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     auto counted = [&](double h, float confidence) {
       return stepped || countedInBody(h, confidence, config_);
     };
+    // Eq. 6 at rho; a prefix also keeps prefix_clearance from the branch's points: rho
+    // leaves the Quake III hull (0.30 to 0.42 eye heights from its axis) touching what
+    // eq. 6 passes.
+    // counts[i] holds the counts at radii[i]: rho first, then the optional radii.
+    std::vector<double> radii = {config_.body_radius};
+    const size_t prefix_radius = radii.size();
+    if (config_.prefix_commits) radii.push_back(config_.prefix_clearance);
+    const size_t end_radius = radii.size();
+    const bool end_checked = config_.end_clearance > 0 && !rotation_only;
+    if (end_checked) radii.push_back(config_.end_clearance);
+    const std::optional<PlaneBox> reach = reachOfAll(floors, *std::max_element(radii.begin(), radii.end()));
+    const std::optional<BodyReach> frame =
+        reach ? std::optional<BodyReach>(*referenceSample(floors)) : std::nullopt;
+    auto reachable = [&](const Eigen::Vector3d& x) {
+      return !reach || reach->contains(frame->across1(x), frame->across2(x));
+    };
     std::vector<HeightedPoint> points;
     for (const KeyframePoints& kf : keyframes_)
       for (const auto& p : kf.points) {
+        const Eigen::Vector3d x = p.position.cast<double>();
+        if (!reachable(x)) continue;
         const FloorPlane& datum = stepped ? start : floors[kf.frame];
-        const double h = datum.normalisedHeight(p.position.cast<double>());
-        if (counted(h, p.confidence)) points.push_back({p.position.cast<double>(), h, p.confidence});
+        const double h = datum.normalisedHeight(x);
+        if (counted(h, p.confidence)) points.push_back({x, h, p.confidence});
       }
     if (start.cameraHeight() > 0) {
       const double radius = config_.body_radius * start.cameraHeight();
@@ -87,21 +126,12 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
             v.start_occupied += countedInBody(start.normalisedHeight(x), p.confidence, config_);
             continue;
           }
+          if (!reachable(x)) continue;
           const bool own = own_floor && std::isfinite(p.h);
           const double h = own ? static_cast<double>(p.h) : start.normalisedHeight(x);
           if (counted(h, p.confidence)) points.push_back({x, h, p.confidence});
         }
     }
-    // Eq. 6 at rho; a prefix also keeps prefix_clearance from the branch's points: rho
-    // leaves the Quake III hull (0.30 to 0.42 eye heights from its axis) touching what
-    // eq. 6 passes.
-    // counts[i] holds the counts at radii[i]: rho first, then the optional radii.
-    std::vector<double> radii = {config_.body_radius};
-    const size_t prefix_radius = radii.size();
-    if (config_.prefix_commits) radii.push_back(config_.prefix_clearance);
-    const size_t end_radius = radii.size();
-    const bool end_checked = config_.end_clearance > 0 && !rotation_only;
-    if (end_checked) radii.push_back(config_.end_clearance);
     const std::vector<std::vector<int>> counts = bodyCylinderCounts(points, floors, config_, radii);
     const PointCloudCollision pc = pointCloudCollisionFromCounts(counts.front(), config_, rotation_only);
     v.collision_pc = pc.collision;

@@ -32,6 +32,8 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
   // is never within the radius.
   std::vector<const HeightedPoint*> confident;
   std::vector<Eigen::Vector3d> positions;
+  confident.reserve(points.size());
+  positions.reserve(points.size());
   for (const auto& p : points)
     if (p.confidence >= config.min_confidence && p.position.allFinite()) {
       confident.push_back(&p);

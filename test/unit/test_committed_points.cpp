@@ -6,11 +6,14 @@
 // (normalised heights 0.3 .. 0.9, inside [0.18, 1.19]).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "valerant/explore/branch_check.h"
 #include "valerant/common/error.h"
 #include "valerant/explore/committed_points.h"
+#include "valerant/explore/step_support.h"
 #include "walking_branch.h"
 
 using namespace valerant;
@@ -195,6 +198,47 @@ TEST(CommittedPoints, OwnFloorHeightsComeFromTheirKeyframesFloor) {
   const CommittedSteps step = committedStep(patch, unknown);
   EXPECT_TRUE(std::isnan(step.front()->front().h));
   EXPECT_EQ(walk(own_floor, step, false).occupied_max, 59);
+}
+
+// BranchCheck copies only the committed points some body can reach (body_reach.h); the
+// counts must be those of every point. The wall of WallBesideThePathIsACollision plus
+// 20,000 points over a 40 x 40 area around the walk and 2,000 around its path, at
+// heights y -1 .. 1 (h = (0.5 - y) / 0.5 from the branch's floor, -1 .. 3): the paper's
+// counts equal a brute-force count over every point (within rho kappa of the axis x = 0,
+// z = z_i, h in [eta_low, eta_high], none beside the start); the stepped body's equal
+// steppedBodyCounts over every point.
+TEST(CommittedPoints, PointsOutOfEveryBodysReachChangeNoCount) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> anywhere(-20, 20), height(-1, 1), beside(-0.3f, 0.3f), along(-0.5f, 1.5f);
+  KeyframeCloud cloud = wallCloud(0.3, 0.9);
+  for (int i = 0; i < 20000; ++i) cloud.points.push_back({{anywhere(rng), height(rng), anywhere(rng)}, {}, 10.f});
+  for (int i = 0; i < 2000; ++i) cloud.points.push_back({{beside(rng), height(rng), along(rng)}, {}, 10.f});
+  const CommittedSteps steps = committedStep(cloud, startFloor());
+
+  std::vector<FloorPlane> floors;
+  for (int i = 0; i < 10; ++i) floors.push_back(valerant::test::floorBelow({0, 0, 0.1 * i}, kFloorY));
+  const Config paper;
+  const double r = paper.collision.body_radius * kFloorY;
+  std::vector<HeightedPoint> counted;  // every point but those beside the start
+  for (const CommittedPoint& p : *steps.front()) {
+    const Eigen::Vector3d x = p.position.cast<double>();
+    if (x.x() * x.x() + x.z() * x.z() > r * r) counted.push_back({x, (kFloorY - x.y()) / kFloorY, p.confidence});
+  }
+  std::vector<int> expected;
+  for (const FloorPlane& f : floors) {
+    int n = 0;
+    for (const HeightedPoint& p : counted)
+      n += f.axisDistanceSquared(p.position) <= r * r && countedInBody(p.h, p.confidence, paper.collision);
+    expected.push_back(n);
+  }
+  const BranchVerdict v = walk(paper, steps, false);
+  EXPECT_EQ(v.body_counts, expected);
+  EXPECT_GT(*std::max_element(expected.begin(), expected.end()), paper.collision.n_occ);  // not a scene of zeros
+
+  Config stepped;
+  stepped.collision.step_height = 0.45;
+  EXPECT_EQ(walk(stepped, steps, false).body_counts,
+            steppedBodyCounts(counted, floors, stepped.collision, stepped.collision.body_radius).counts);
 }
 
 TEST(CommittedPoints, KeyframesAndFloorsMustPair) {

@@ -8,8 +8,8 @@
 // The points are binned on a 2D grid in the plane across a reference normal n0 (the
 // first usable sample's). A sample's axis is tilted from n0 by a few degrees at most,
 // and every body point lies in the slab [u_min, u_max] along n0, so the part of its
-// cylinder that can hold points projects into a bounded box of cells; only the points
-// there get the exact test. The counts are exactly the brute-force counts (the box is
+// cylinder that can hold points projects into a bounded box of cells (body_reach.h);
+// only the points there get the exact test. The counts are exactly the brute-force counts (the box is
 // a conservative bound with a margin for rounding); a sample tilted more than 60 deg
 // from n0 is counted by brute force.
 //
@@ -21,8 +21,10 @@
 // force, every point is kept.
 #include <Eigen/Core>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
+#include "valerant/explore/body_reach.h"
 #include "valerant/geometry/floor_plane.h"
 
 namespace valerant {
@@ -54,9 +56,6 @@ class BodyPointIndex {
     Eigen::Vector3d position;
     size_t index;  // into the constructor's points
   };
-  // The span of the sample's cylinder of `radius` across n0, along e1 (a) and e2 (b), for
-  // points in the slab [u_min, u_max]; false where the sample is counted by brute force.
-  bool span(const FloorPlane& sample, double radius, double* a_lo, double* a_hi, double* b_lo, double* b_hi) const;
   // The cells [ix0, ix1] x [iy0, iy1] that can hold the sample's points, or false where
   // the sample is searched by brute force; radius2 = (radius kappa)^2.
   bool searchBox(const FloorPlane& sample, double radius, long long box[4], double* radius2) const;
@@ -69,10 +68,9 @@ class BodyPointIndex {
   std::vector<Binned>::const_iterator firstAt(long long ix, long long iy) const;
 
   std::vector<Binned> binned_;  // sorted by (ix, iy)
-  Eigen::Vector3d n0_, e1_, e2_;
+  std::optional<BodyReach> reach_;  // none: every sample is counted by brute force
   double cell_ = 0, u_min_ = 0, u_max_ = 0;
   double max_radius_ = 0;  // 0: every radius
-  bool indexed_ = false;  // false: every sample is counted by brute force
 };
 
 template <class Visit>

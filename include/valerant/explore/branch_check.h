@@ -27,10 +27,12 @@
 // keyframe's: the support the body climbs is one height along the branch, and a
 // keyframe's floor fitted on a stair would move the datum from point to point.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "valerant/config/config.h"
+#include "valerant/explore/body_reach.h"
 #include "valerant/explore/branch_verdict.h"
 #include "valerant/explore/committed_points.h"
 #include "valerant/explore/depth_collision.h"
@@ -58,6 +60,10 @@ class BranchCheck {
     size_t frame;
     std::vector<CloudPoint> points;
   };
+  // Where the bodies of `floors` at `radius` can reach (body_reach.h) in the slab of every
+  // point of the branch and the committed steps: the points outside are never counted,
+  // so they are not copied. nullopt: no bound (keep every point).
+  std::optional<PlaneBox> reachOfAll(const std::vector<FloorPlane>& floors, double radius) const;
   CollisionConfig config_;
   CommittedSteps committed_;
   double d_fwd_normalised_;
