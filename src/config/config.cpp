@@ -196,6 +196,7 @@ void readPolicy(Section s, PolicyConfig& p) {
   s.boolean("open_turn", p.open_turn);
   s.boolean("goal_move", p.goal_move);
   s.number("opening_weight", p.opening_weight, 0.0, 1e6);
+  s.boolean("no_turn_back", p.no_turn_back);
   s.finish();
 }
 

@@ -7,6 +7,7 @@
 #include "valerant/common/error.h"
 #include "valerant/explore/kept_truth.h"
 #include "valerant/explore/local_branch_pipeline.h"
+#include "valerant/explore/turn_back.h"
 #include "valerant/geometry/frontier_distance.h"
 #include "valerant/geometry/goal_move.h"
 #include "valerant/geometry/open_direction.h"
@@ -117,7 +118,8 @@ StepRecord Episode::step() {
   record.step = ++steps_;
   record.checkpoint = world_.checkpoint();
   pipeline_.checkpoint(record.checkpoint);
-  saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_, loop_closure_, contact_points_});
+  saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_, loop_closure_, contact_points_,
+                                        last_turn_deg_});
   Cell start_cell{-1, -1};
   grid_->cellOf(trajectory_.back().translation(), start_cell);
 
@@ -248,6 +250,9 @@ void Episode::judge(const std::vector<std::string>& names, const std::vector<std
     const int contact = config_.collision.turn_contact_points, start = config_.collision.turn_start_points;
     v.turn_in_contact = v.rotation_only && ((contact > 0 && contact_points_ >= contact) ||
                                             (start > 0 && v.start_occupied >= start));
+    v.turns_back = config_.policy.no_turn_back && v.rotation_only && last_turn_deg_ &&
+                   turnsBack(*last_turn_deg_, makeActionSequence(v.candidate, config_).totalYawDeg(),
+                             config_.rollout.turn_forward_deg / 2);
     Cell end_cell{-1, -1};
     grid_->cellOf(out.centres.back().back(), end_cell);
     v.goal = goal.goalTerm(start_cell, end_cell);
@@ -350,6 +355,9 @@ void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector
   appendCommittedTruth(truth_, chosen.rollout.truth);
   const std::vector<int>& counts = chosen.verdict.body_counts;
   if (!chosen.verdict.rotation_only) contact_points_ = counts.empty() ? 0 : counts.back();
+  last_turn_deg_ = chosen.verdict.rotation_only
+                       ? std::optional<double>(makeActionSequence(chosen.verdict.candidate, config_).totalYawDeg())
+                       : std::nullopt;
   // Maps the new poses and keyframes into the corrected frame; a closure moves older ones too.
   const bool closed = loop_closure_ && loop_closure_->commit(chosen, committed_steps_ + 1, anchor_kappa_, map_, trajectory_);
   ++committed_steps_;
@@ -377,6 +385,7 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
   if (truth_.size() > s.trajectory_size) truth_.resize(s.trajectory_size);
   committed_steps_ = s.committed_steps;
   contact_points_ = s.contact_points;
+  last_turn_deg_ = s.last_turn_deg;
   if (loop_closure_) {  // closures made after the checkpoint are undone
     loop_closure_ = s.loop_closure;
     loop_closure_->restoreInto(map_, trajectory_);

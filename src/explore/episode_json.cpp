@@ -14,7 +14,7 @@ nlohmann::json toJson(const BranchVerdict& v) {
           {"c_new", v.c_new},               {"c_front", v.c_front},
           {"coverage", v.coverage},         {"progress", v.progress},
           {"goal", v.goal},                 {"opening", v.opening},
-          {"short_unclear", v.short_unclear},
+          {"short_unclear", v.short_unclear}, {"turns_back", v.turns_back},
           {"body_counts", v.body_counts},   {"start_occupied", v.start_occupied},
           {"score", v.score},               {"admissible", v.admissible},
           {"reason", v.reason}};

@@ -54,7 +54,8 @@ int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& confi
   }
   if (config.kind == "frontier")
     return argmaxBy(verdicts, [](const BranchVerdict& v) { return std::make_pair(v.c_front, v.coverage); });
-  return argmaxBy(verdicts, [](const BranchVerdict& v) { return v.score; });
+  // [ours] A turn back (policy.no_turn_back) only where nothing else is admissible.
+  return argmaxBy(verdicts, [](const BranchVerdict& v) { return std::make_pair(!v.turns_back, v.score); });
 }
 
 }  // namespace valerant

@@ -289,6 +289,7 @@ valerant::Verdict toMsg(const BranchVerdict& v, const std::vector<Eigen::Vector3
   msg.c_new = v.c_new, msg.c_front = v.c_front, msg.coverage = v.coverage, msg.progress = v.progress;
   msg.goal = v.goal, msg.opening = v.opening;
   msg.short_unclear = v.short_unclear;
+  msg.turns_back = v.turns_back;
   msg.score = v.score;
   msg.admissible = v.admissible;
   msg.reason = v.reason;
@@ -319,6 +320,7 @@ BranchVerdict fromMsg(const valerant::Verdict& msg) {
   v.c_new = msg.c_new, v.c_front = msg.c_front, v.coverage = msg.coverage, v.progress = msg.progress;
   v.goal = msg.goal, v.opening = msg.opening;
   v.short_unclear = msg.short_unclear;
+  v.turns_back = msg.turns_back;
   v.score = msg.score;
   v.admissible = msg.admissible;
   v.reason = msg.reason;

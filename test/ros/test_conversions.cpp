@@ -212,6 +212,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   v.c_new = 1.0 / 3, v.c_front = 2.5, v.coverage = 1.0 / 3 + 1.25, v.progress = -0.7;
   v.goal = -0.375, v.opening = 0.625;
   v.short_unclear = true;
+  v.turns_back = true;
   v.score = 3.14159;
   v.admissible = false;
   v.reason = "collision_pc";
@@ -240,6 +241,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   EXPECT_EQ(back.goal, v.goal);
   EXPECT_EQ(back.opening, v.opening);
   EXPECT_EQ(back.short_unclear, v.short_unclear);
+  EXPECT_EQ(back.turns_back, v.turns_back);
   EXPECT_EQ(back.score, v.score);
   EXPECT_EQ(back.admissible, v.admissible);
   EXPECT_EQ(back.reason, v.reason);

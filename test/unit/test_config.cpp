@@ -414,6 +414,7 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.policy.short_turn_frames, built_in.short_turn_frames);
   EXPECT_EQ(shipped.policy.open_turn, built_in.open_turn);
   EXPECT_EQ(shipped.policy.opening_weight, built_in.opening_weight);
+  EXPECT_EQ(shipped.policy.no_turn_back, built_in.no_turn_back);
   EXPECT_EQ(shipped.policy.goal_move, built_in.goal_move);
   EXPECT_EQ(shipped.policy.max_cell_rise, built_in.max_cell_rise);
   EXPECT_EQ(shipped.collision.step_height, CollisionConfig().step_height);

@@ -225,6 +225,39 @@ TrappedRun trappedRun(bool forget, const std::vector<std::string>& names, int ro
 
 }  // namespace
 
+// [ours] policy.no_turn_back: after a committed lq (90 degrees right) the jq of the next
+// step turns back (turn_back.h) and lq does not; after jq (a turn the same way on) lq
+// turns back; a translation leaves no turn to undo. Without the option nothing is marked.
+TEST(Episode, TheTurnUndoingTheLastCommittedTurnIsMarked) {
+  VALERANT_REQUIRE_OPENARENA();
+  for (const bool on : {false, true}) {
+    Config config = smallConfig(10);
+    config.policy.no_turn_back = on;
+    config.dead_pocket.enabled = false;
+    auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+    quake3::Quake3World world(map, config);
+    LocalBranchPipeline pipeline(world.intrinsics(), config);
+    ScriptedSelector script({"lq", "jq", "uw", "lq"});
+    Episode episode(world, pipeline, script, config);
+    std::vector<StepRecord> records;
+    for (; script.step < script.script.size(); ++script.step) records.push_back(episode.step());
+    auto turnsBack = [&](size_t step, const std::string& name) {
+      for (const CandidateRecord& c : records.at(step).candidates)
+        if (c.verdict.candidate == name) return c.verdict.turns_back;
+      ADD_FAILURE() << "no " << name << " at step " << step;
+      return false;
+    };
+    ASSERT_EQ(records.size(), 4u);
+    for (const auto& r : records) ASSERT_GE(r.chosen, 0);
+    EXPECT_FALSE(turnsBack(0, "jq") || turnsBack(0, "lq"));  // nothing committed yet
+    EXPECT_EQ(turnsBack(1, "jq"), on);
+    EXPECT_FALSE(turnsBack(1, "lq"));
+    EXPECT_EQ(turnsBack(2, "lq"), on);  // after jq
+    EXPECT_FALSE(turnsBack(2, "jq"));
+    EXPECT_FALSE(turnsBack(3, "jq") || turnsBack(3, "lq"));  // after uw
+  }
+}
+
 // [ours] dead_pocket.forget_failed_when_trapped: back at the anchor with no anchor left,
 // the way uw walked before the rewind is in F; the paper keeps F (and the agent turns in
 // place to the end of its budget, docs/pockets.md), the option forgets it once the pocket

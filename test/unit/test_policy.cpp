@@ -108,6 +108,26 @@ TEST(Policy, ArgmaxOverAdmissibleWithDeterministicTies) {
   EXPECT_EQ(v[4].reason, "ends in contact");
 }
 
+// [ours] policy.no_turn_back: after a committed lq (90 degrees right) the jq back scores
+// highest (C 0.9 against 0.5 for jq@28, 0.4 for lq; no translation admissible), but a
+// turn back is chosen only when nothing else is admissible: jq@28 (index 2). With jq@28
+// and lq blocked too, the turn back is all there is and is chosen; it stays admissible.
+TEST(Policy, ATurnBackIsChosenOnlyWhenNothingElseIsAdmissible) {
+  PolicyConfig config;
+  std::vector<BranchVerdict> v(4);
+  const char* names[] = {"uw", "jq", "jq@28", "lq"};
+  for (int i = 0; i < 4; ++i) v[i].candidate = names[i];
+  v[0].collision_pc = true;
+  v[1].coverage = 0.9, v[1].turns_back = true;
+  v[2].coverage = 0.5;
+  v[3].coverage = 0.4;
+  EXPECT_EQ(selectBranch(v, config), 2);
+  EXPECT_TRUE(v[1].admissible);
+  v[2].enters_failed = v[3].enters_failed = true;
+  EXPECT_EQ(selectBranch(v, config), 1);
+  EXPECT_EQ(v[1].reason, "");
+}
+
 // The verdicts scored as predicted collisions: either test, a turn held back after a
 // contact, or a translation ending in contact; a lost track, the failed region or a short action's unclear end are not.
 TEST(Policy, PredictedCollisionsAreTheTestsAndTurnsInContact) {

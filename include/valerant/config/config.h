@@ -100,6 +100,9 @@ struct PolicyConfig {
   // Score term opening_weight * O of an in-place turn, O the free floor ahead of its
   // final heading in forward actions (open_direction.h).
   double opening_weight = 0;
+  // A turn in place that undoes the last committed step's turn in place (turn_back.h) is
+  // chosen only when nothing else is admissible.
+  bool no_turn_back = false;
 };
 
 struct FloorConfig {

@@ -44,6 +44,9 @@ struct BranchVerdict {
   // tests let a rollout's last frames come close (s_min(l) shrinks to 0 at its end), so
   // they are held to the clean prefix's margins (clean_prefix.h) to their last frame.
   bool short_unclear = false;
+  // [ours] A turn in place that undoes the last committed step's turn in place
+  // (policy.no_turn_back; turn_back.h): ranked below every other admissible candidate.
+  bool turns_back = false;
   double score = 0;
   bool admissible = false;
   std::string reason;  // "" when admissible

@@ -114,6 +114,7 @@ class Episode {
     int committed_steps;
     std::optional<LoopClosure> loop_closure;
     int contact_points;
+    std::optional<double> last_turn_deg;
   };
   // Uses `pipeline` and `selector` when given, else the owned ones.
   Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline, std::unique_ptr<BranchSelector> own_selector,
@@ -179,6 +180,9 @@ class Episode {
   // camera still stands there through the turns in place that follow, which
   // collision.turn_contact_points holds to it (docs/inside_brush.md).
   int contact_points_ = 0;
+  // [ours] The yaw of the last committed step when it turned in place (left positive);
+  // none after a translation. policy.no_turn_back ranks the turn undoing it last.
+  std::optional<double> last_turn_deg_;
 };
 
 }  // namespace valerant

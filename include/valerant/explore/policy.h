@@ -7,7 +7,9 @@
 // translation is clear to its end, branch_verdict.h; and its reconstructed motion P is
 // at most policy.max_progress forward actions: more is a SLAM scale runaway). Ties go to the
 // candidate listed first (the paper's order uw, jw, lw, jq, lq), so a run is
-// deterministic. No admissible candidate: a stall (returns -1).
+// deterministic. No admissible candidate: a stall (returns -1). [ours] With
+// policy.no_turn_back, a turn in place that undoes the last committed one (turns_back,
+// turn_back.h) is chosen only when no other candidate is admissible.
 //
 // Baselines (policy.kind) choose among the same admissible candidates:
 //   random   - uniformly, from a generator seeded by (seed, step);
