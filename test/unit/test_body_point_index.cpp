@@ -7,18 +7,12 @@
 #include <random>
 
 #include "valerant/explore/body_point_index.h"
+#include "body_sample.h"
 
 using namespace valerant;
+using valerant::test::sampleAt;
 
 namespace {
-
-FloorPlane sampleAt(const Eigen::Vector3d& c, const Eigen::Vector3d& n, double kappa) {
-  FloorPlane s;
-  s.n = n.normalized();
-  s.c = c;
-  s.q = c - kappa * s.n;
-  return s;
-}
 
 int bruteForce(const std::vector<Eigen::Vector3d>& points, const FloorPlane& s, double radius) {
   const double kappa = s.cameraHeight();

@@ -7,18 +7,12 @@
 #include <cmath>
 
 #include "valerant/explore/body_reach.h"
+#include "body_sample.h"
 
 using namespace valerant;
+using valerant::test::sampleAt;
 
 namespace {
-
-FloorPlane sampleAt(const Eigen::Vector3d& c, const Eigen::Vector3d& n, double kappa) {
-  FloorPlane s;
-  s.n = n.normalized();
-  s.c = c;
-  s.q = c - kappa * s.n;
-  return s;
-}
 
 bool inside(const BodyReach& reach, const PlaneBox& box, const Eigen::Vector3d& p) {
   return box.contains(reach.across1(p), reach.across2(p));
