@@ -41,7 +41,7 @@ std::vector<FloorPlane> BranchCheck::floors() const {
   return out;
 }
 
-std::optional<PlaneBox> BranchCheck::reachOfAll(const std::vector<FloorPlane>& floors, double radius) const {
+std::optional<ReachableBox> BranchCheck::reachOfAll(const std::vector<FloorPlane>& floors, double radius) const {
   const FloorPlane* reference = referenceSample(floors);
   if (!reference) return std::nullopt;
   const BodyReach frame(*reference);
@@ -58,7 +58,9 @@ std::optional<PlaneBox> BranchCheck::reachOfAll(const std::vector<FloorPlane>& f
   for (const auto& step : committed_)
     for (const auto& p : *step) extend(p.position);
   if (!(u_min <= u_max)) return std::nullopt;
-  return frame.spanOfAll(floors, radius, u_min, u_max);
+  const auto box = frame.spanOfAll(floors, radius, u_min, u_max);
+  if (!box) return std::nullopt;
+  return ReachableBox{frame, *box};
 }
 
 BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_only) const {
@@ -99,12 +101,8 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     const size_t end_radius = radii.size();
     const bool end_checked = config_.end_clearance > 0 && !rotation_only;
     if (end_checked) radii.push_back(config_.end_clearance);
-    const std::optional<PlaneBox> reach = reachOfAll(floors, *std::max_element(radii.begin(), radii.end()));
-    const std::optional<BodyReach> frame =
-        reach ? std::optional<BodyReach>(*referenceSample(floors)) : std::nullopt;
-    auto reachable = [&](const Eigen::Vector3d& x) {
-      return !reach || reach->contains(frame->across1(x), frame->across2(x));
-    };
+    const std::optional<ReachableBox> reach = reachOfAll(floors, *std::max_element(radii.begin(), radii.end()));
+    auto reachable = [&](const Eigen::Vector3d& x) { return !reach || reach->contains(x); };
     std::vector<HeightedPoint> points;
     for (const KeyframePoints& kf : keyframes_)
       for (const auto& p : kf.points) {

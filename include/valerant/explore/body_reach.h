@@ -54,4 +54,11 @@ class BodyReach {
   Eigen::Vector3d n0_, e1_, e2_;
 };
 
+// A box across n0 with the frame that measures it: the points some body can reach.
+struct ReachableBox {
+  BodyReach frame;
+  PlaneBox box;
+  bool contains(const Eigen::Vector3d& p) const { return box.contains(frame.across1(p), frame.across2(p)); }
+};
+
 }  // namespace valerant

@@ -63,7 +63,7 @@ class BranchCheck {
   // Where the bodies of `floors` at `radius` can reach (body_reach.h) in the slab of every
   // point of the branch and the committed steps: the points outside are never counted,
   // so they are not copied. nullopt: no bound (keep every point).
-  std::optional<PlaneBox> reachOfAll(const std::vector<FloorPlane>& floors, double radius) const;
+  std::optional<ReachableBox> reachOfAll(const std::vector<FloorPlane>& floors, double radius) const;
   CollisionConfig config_;
   CommittedSteps committed_;
   double d_fwd_normalised_;
