@@ -118,8 +118,8 @@ StepRecord Episode::step() {
   record.step = ++steps_;
   record.checkpoint = world_.checkpoint();
   pipeline_.checkpoint(record.checkpoint);
-  saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_, loop_closure_, contact_points_,
-                                        last_turn_deg_});
+  saved_.emplace(record.checkpoint, Saved{*grid_, map_.marker(), trajectory_.size(), committed_steps_,
+                                          loop_closure_, contact_points_, last_turn_deg_});
   Cell start_cell{-1, -1};
   grid_->cellOf(trajectory_.back().translation(), start_cell);
 

@@ -9,9 +9,9 @@
 // first usable sample's). A sample's axis is tilted from n0 by a few degrees at most,
 // and every body point lies in the slab [u_min, u_max] along n0, so the part of its
 // cylinder that can hold points projects into a bounded box of cells (body_reach.h);
-// only the points there get the exact test. The counts are exactly the brute-force counts (the box is
-// a conservative bound with a margin for rounding); a sample tilted more than 60 deg
-// from n0 is counted by brute force.
+// only the points there get the exact test. The counts are exactly the brute-force
+// counts (the box is a conservative bound with a margin for rounding); a sample tilted
+// more than 60 deg from n0 is counted by brute force.
 //
 // Told the largest radius it will be asked for, the index keeps only the points inside
 // some sample's box at that radius: the committed steps' points cover the map around the
