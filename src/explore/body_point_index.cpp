@@ -47,12 +47,11 @@ BodyPointIndex::BodyPointIndex(const std::vector<Eigen::Vector3d>& points, const
 }
 
 void BodyPointIndex::keepReachable(const std::vector<FloorPlane>& samples) {
-  const auto reachable = reach_->spanOfAll(samples, max_radius_, u_min_, u_max_);
-  if (!reachable) return;  // some sample is counted by brute force: it may visit anything
+  const auto box = reach_->spanOfAll(samples, max_radius_, u_min_, u_max_);
+  if (!box) return;  // some sample is counted by brute force: it may visit anything
+  const ReachableBox reachable{*reach_, *box};
   binned_.erase(std::remove_if(binned_.begin(), binned_.end(),
-                               [&](const Binned& b) {
-                                 return !reachable->contains(reach_->across1(b.position), reach_->across2(b.position));
-                               }),
+                               [&](const Binned& b) { return !reachable.contains(b.position); }),
                 binned_.end());
 }
 
