@@ -337,6 +337,7 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.number("drop_height", d.drop_height, 0.0, 100.0);
   s.boolean("keep_map", d.keep_map);
   s.boolean("forget_failed_when_trapped", d.forget_failed_when_trapped);
+  s.boolean("free_way_back", d.free_way_back);
   s.finish();
 }
 

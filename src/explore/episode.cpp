@@ -391,6 +391,14 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
     loop_closure_->restoreInto(map_, trajectory_);
   }
   failed_.add(decision.failed_cells);
+  if (config_.dead_pocket.free_way_back) {  // [ours] the way the agent came in stays a way out
+    std::set<Cell> kept;
+    for (const Eigen::Isometry3d& pose : trajectory_) {
+      Cell cell;
+      if (grid_->cellOf(pose.translation(), cell)) kept.insert(cell);
+    }
+    record.way_back_freed = static_cast<int>(failed_.remove(kept));
+  }
   record.rewind = true;
   record.rewind_stagnant = decision.stagnant;
   record.rewind_to = decision.checkpoint;

@@ -64,6 +64,7 @@ nlohmann::json toJson(const StepRecord& r) {
           {"rewind_to", r.rewind_to},
           {"discarded_steps", r.discarded_steps},
           {"failed_forgotten", r.failed_forgotten},
+          {"way_back_freed", r.way_back_freed},
           {"new_floor_cells", r.new_floor_cells},
           {"drop", r.drop},
           {"seconds", toJson(r.seconds)},

@@ -491,3 +491,45 @@ TEST(Episode, NewFloorCellsSumToTheGridsGrowth) {
   EXPECT_GT(sum, 0u);
   EXPECT_EQ(sum, episode.grid().observedCells() - before);
 }
+
+// [ours] dead_pocket.free_way_back: uw, uw, a half turn (jq, jq), uw back over the way it
+// came, then three turns in place: a dead pocket, rewound to before the walk back (the
+// most recent anchor). The discarded walk back passed over the kept path (the two uw);
+// the paper puts those cells into F, the option leaves the kept path out of it and no
+// other cell.
+TEST(Episode, ARewindWithTheWayBackFreeLeavesTheKeptPathOutOfF) {
+  VALERANT_REQUIRE_OPENARENA();
+  struct Run {
+    std::set<Cell> failed, kept;
+    StepRecord rewinding;
+  };
+  auto run = [](bool free_way_back) {
+    Config config = smallConfig(10);
+    config.dead_pocket.max_rewinds = 25;
+    config.dead_pocket.free_way_back = free_way_back;
+    auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+    quake3::Quake3World world(map, config);
+    LocalBranchPipeline pipeline(world.intrinsics(), config);
+    ScriptedSelector script({"uw", "uw", "jq", "jq", "uw", "jq", "jq", "jq"});
+    Episode episode(world, pipeline, script, config);
+    Run r;
+    for (; script.step < script.script.size(); ++script.step) r.rewinding = episode.step();
+    r.failed = episode.failed().cells();
+    for (const Eigen::Isometry3d& pose : episode.trajectory()) {
+      Cell cell;
+      if (episode.grid().cellOf(pose.translation(), cell)) r.kept.insert(cell);
+    }
+    return r;
+  };
+  const Run paper = run(false), freed = run(true);
+  ASSERT_TRUE(paper.rewinding.rewind);
+  ASSERT_TRUE(freed.rewinding.rewind);
+  EXPECT_EQ(paper.rewinding.discarded_steps, 4);  // the walk back and the three turns
+  EXPECT_EQ(paper.kept, freed.kept);              // the same kept path: steps 1 to 4
+  std::set<Cell> paper_on_kept, paper_off_kept;
+  for (const Cell& c : paper.failed) (paper.kept.count(c) ? paper_on_kept : paper_off_kept).insert(c);
+  EXPECT_GE(paper_on_kept.size(), 3u);  // the walk back retraced at least 3 m of the way in
+  EXPECT_EQ(paper.rewinding.way_back_freed, 0);
+  EXPECT_EQ(freed.failed, paper_off_kept);
+  EXPECT_EQ(freed.rewinding.way_back_freed, static_cast<int>(paper_on_kept.size()));
+}

@@ -57,4 +57,7 @@ TEST(EpisodeJson, PocketSignalsAndStagnantRewinds) {
   record.failed_forgotten = 9;
   EXPECT_EQ(toJson(record)["failed_forgotten"], 9);
   EXPECT_EQ(toJson(StepRecord{})["failed_forgotten"], 0);
+  record.way_back_freed = 4;
+  EXPECT_EQ(toJson(record)["way_back_freed"], 4);
+  EXPECT_EQ(toJson(StepRecord{})["way_back_freed"], 0);
 }

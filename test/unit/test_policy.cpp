@@ -179,6 +179,15 @@ TEST(FailedRegionMemory, EnteringIsLeavingTheStartCellIntoF) {
   EXPECT_TRUE(f.enters({{64, 64}, {65, 64}}, {64, 64}, false));
 }
 
+// [ours] dead_pocket.free_way_back removes the kept path's cells: only those held count.
+TEST(FailedRegionMemory, RemovingCountsOnlyTheCellsItHeld) {
+  FailedRegionMemory f;
+  f.add({{64, 64}, {65, 64}, {66, 64}});
+  EXPECT_EQ(f.remove({{65, 64}, {66, 64}, {70, 70}}), 2u);
+  EXPECT_EQ(f.cells(), (std::set<Cell>{{64, 64}}));
+  EXPECT_EQ(f.remove({{65, 64}}), 0u);
+}
+
 TEST(RewindController, DeadEndRewindsBeforeThePocketAndMarksIt) {
   DeadPocketConfig config;  // the paper: only the anchor's own cell stays free
   RewindController r(config);

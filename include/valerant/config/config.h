@@ -201,6 +201,11 @@ struct DeadPocketConfig {
   // trapped(), docs/pockets.md). false = the paper: F is kept, the agent turns in place,
   // and such a stall ends the episode.
   bool forget_failed_when_trapped = false;
+  // [ours] After a rewind F holds no cell of the kept path (the committed frames up to the
+  // anchor): a discarded segment that walked back over the way the agent came in would
+  // otherwise wall off its way back out (rewind_controller.h, docs/pockets.md).
+  // false = the paper: every cell of the discarded segment goes into F.
+  bool free_way_back = false;
 };
 
 struct MapConfig {

@@ -23,6 +23,12 @@ class FailedRegionMemory {
       if (c != start && contains(c)) return true;
     return false;
   }
+  // Removes `cells` where held; returns how many were.
+  size_t remove(const std::set<Cell>& cells) {
+    size_t n = 0;
+    for (const Cell& c : cells) n += cells_.erase(c);
+    return n;
+  }
   const std::set<Cell>& cells() const { return cells_; }
   // [ours] Forgets every cell (dead_pocket.forget_failed_when_trapped); returns how many.
   size_t forget() {
