@@ -16,6 +16,7 @@
 #include "valerant/eval/trajectory_metrics.h"
 #include "valerant/explore/episode_json.h"
 #include "valerant/explore/stage_seconds.h"
+#include "valerant/explore/goal_map_image.h"
 #include "valerant/explore/topdown_image.h"
 #include "valerant/map/run_exports.h"
 #include "valerant/map/run_map.h"
@@ -214,6 +215,12 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
                                 config.collision, kTopdownPixelsPerCell);
   cv::cvtColor(topdown, topdown, cv::COLOR_RGB2BGR);
   writeImageAtomically(out + "/topdown.png", topdown);
+  // Where the whole-level goal can lead from where the agent stopped (goal_map_image.h).
+  Cell agent{-1, -1};
+  if (!episode.trajectory().empty()) episode.grid().cellOf(episode.trajectory().back().translation(), agent);
+  cv::Mat goal_map = drawGoalMap(episode.grid(), episode.failed(), agent, kTopdownPixelsPerCell);
+  cv::cvtColor(goal_map, goal_map, cv::COLOR_RGB2BGR);
+  writeImageAtomically(out + "/goal_map.png", goal_map);
   // The player's view at the end, for viewers of the run (run_publisher's camera image).
   cv::Mat view = episode.currentView();
   if (!view.empty()) {
@@ -232,6 +239,9 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   report["rewinds"] = episode.rewinds();
   report["first_translation_step"] = firstTranslationStep(episode.history());  // 0: none (spawn_departure.h)
   report["final_turn_streak"] = finalTurnStreak(episode.history());  // steps turning in place at the end (trap_figures.h)
+  const GoalReach reach = goalReach(episode.history());
+  report["goal_unreachable_steps"] = reach.unreachable_steps;
+  report["goal_cut_off_by_failed_steps"] = reach.cut_off_by_failed_steps;
   report["stuck"] = episode.stuck();  // ended early: a stall with no rewind left (episode.h)
   report["failed_cells"] = episode.failed().cells().size();
   report["map_points"] = cloud.size();
@@ -262,7 +272,7 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   files.insert(files.end(), {run_files::kKeyframePoints, run_files::kKeyframePoses, run_files::kConfig,
                              run_files::kTrajectory});
   if (has_truth) files.push_back("gt_trajectory.txt");
-  files.insert(files.end(), {"topdown.png", "decisions.jsonl", run_files::kReport});
+  files.insert(files.end(), {"topdown.png", "goal_map.png", "decisions.jsonl", run_files::kReport});
   if (!view.empty()) files.push_back("view.png");
   report["files"] = files;
   report["output_stage_seconds"] = seconds;

@@ -28,4 +28,14 @@ int cleanTranslationsBlockedByFailedRegion(const std::vector<StepRecord>& histor
   return blocked;
 }
 
+GoalReach goalReach(const std::vector<StepRecord>& history) {
+  GoalReach reach;
+  for (const StepRecord& step : history) {
+    if (step.goal_distance >= 0) continue;
+    ++reach.unreachable_steps;
+    reach.cut_off_by_failed_steps += step.goal_distance_without_failed >= 0;
+  }
+  return reach;
+}
+
 }  // namespace valerant

@@ -122,6 +122,7 @@ StepRecord Episode::step() {
                                           loop_closure_, contact_points_, last_turn_deg_});
   Cell start_cell{-1, -1};
   grid_->cellOf(trajectory_.back().translation(), start_cell);
+  recordGoal(start_cell, record);
 
   Candidates judged;
   std::vector<std::string> first_round = candidateNames();
@@ -262,6 +263,20 @@ void Episode::judge(const std::vector<std::string>& names, const std::vector<std
     out.verdicts.push_back(v);
     record.seconds.policy += secondsSince(t);
   }
+}
+
+void Episode::recordGoal(const Cell& start, StepRecord& record) const {
+  const auto t = std::chrono::steady_clock::now();
+  auto distance = [&](const FrontierDistance& goal) {
+    const double d = goal.at(start);
+    return d == FrontierDistance::kUnreachable ? -1.0 : d;
+  };
+  const FrontierDistance goal(*grid_, blockedFrom(start));
+  record.goal_frontiers = goal.goalFrontierCells();
+  record.goal_distance = distance(goal);
+  record.goal_distance_without_failed = failed_.cells().empty() ? record.goal_distance
+                                                                 : distance(FrontierDistance(*grid_, {}));
+  record.seconds.policy += secondsSince(t);
 }
 
 std::set<Cell> Episode::blockedFrom(const Cell& start) const {

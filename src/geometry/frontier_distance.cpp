@@ -17,6 +17,7 @@ FrontierDistance::FrontierDistance(const CoverageGrid& grid, std::set<Cell> bloc
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       if (isGoalFrontier({i, j})) {
+        ++goal_frontier_cells_;
         distance_[index({i, j})] = 0;
         open.push({0.0, {i, j}});
       }

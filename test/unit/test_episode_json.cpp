@@ -60,4 +60,10 @@ TEST(EpisodeJson, PocketSignalsAndStagnantRewinds) {
   record.way_back_freed = 4;
   EXPECT_EQ(toJson(record)["way_back_freed"], 4);
   EXPECT_EQ(toJson(StepRecord{})["way_back_freed"], 0);
+  record.goal_frontiers = 12;
+  record.goal_distance = -1;
+  record.goal_distance_without_failed = 3.5;
+  EXPECT_EQ(toJson(record)["goal_frontiers"], 12);
+  EXPECT_EQ(toJson(record)["goal_distance"], -1.0);
+  EXPECT_EQ(toJson(record)["goal_distance_without_failed"], 3.5);
 }

@@ -37,6 +37,8 @@ TEST(FrontierDistance, AWallIsNoFrontier) {
   for (int i = 0; i < g.size(); ++i)
     for (int j = 0; j < g.size(); ++j) frontiers += d.isGoalFrontier({i, j});
   EXPECT_EQ(frontiers, 1);
+  EXPECT_EQ(d.goalFrontierCells(), 1);
+  EXPECT_EQ(FrontierDistance(g, {roomCell(0, 0)}).goalFrontierCells(), 0);  // the doorway in F
 }
 
 TEST(FrontierDistance, PathDistanceField) {

@@ -68,3 +68,18 @@ TEST(TrapFigures, CleanTranslationsThatOnlyTheFailedRegionRejected) {
   EXPECT_EQ(cleanTranslationsBlockedByFailedRegion({a, b}), 2);
   EXPECT_EQ(cleanTranslationsBlockedByFailedRegion({}), 0);
 }
+
+TEST(TrapFigures, StepsWithNoGoalReachableAndThoseFAloneCutOff) {
+  auto goal = [](double with_f, double without_f) {
+    StepRecord s;
+    s.goal_distance = with_f;
+    s.goal_distance_without_failed = without_f;
+    return s;
+  };
+  // Reachable (0 is a frontier underfoot); none reachable either way; cut off by F alone,
+  // twice.
+  const GoalReach reach = goalReach({goal(4, 4), goal(0, 0), goal(-1, -1), goal(-1, 7.5), goal(-1, 0)});
+  EXPECT_EQ(reach.unreachable_steps, 3);
+  EXPECT_EQ(reach.cut_off_by_failed_steps, 2);
+  EXPECT_EQ(goalReach({}).unreachable_steps, 0);
+}

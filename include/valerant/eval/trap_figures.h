@@ -19,4 +19,13 @@ int finalTurnStreak(const std::vector<StepRecord>& history);
 // alone walled off. Candidates without truth are not counted.
 int cleanTranslationsBlockedByFailedRegion(const std::vector<StepRecord>& history);
 
+// Steps that began with no goal frontier reachable (StepRecord::goal_distance), and of
+// them those F alone cut off (one is reachable when F is ignored): then the frontier goal
+// gives every candidate G = 0 and the paper's local terms decide alone.
+struct GoalReach {
+  int unreachable_steps = 0;
+  int cut_off_by_failed_steps = 0;
+};
+GoalReach goalReach(const std::vector<StepRecord>& history);
+
 }  // namespace valerant

@@ -63,6 +63,11 @@ struct StepRecord {
   bool drop = false;           // a committed translation that ended dead_pocket.drop_height or more below its start
   int failed_forgotten = 0;    // [ours] cells of F forgotten after the step (dead_pocket.forget_failed_when_trapped)
   int way_back_freed = 0;      // [ours] cells of F on the kept path the step's rewind freed (dead_pocket.free_way_back)
+  // The whole-level goal at the step's start (frontier_distance.h), whatever policy.goal_weight:
+  // goal frontier cells, and the path distance D (cells) from the agent to the nearest one,
+  // over walkable cells outside F and ignoring F; -1 where none is reachable.
+  int goal_frontiers = 0;
+  double goal_distance = -1, goal_distance_without_failed = -1;
   StageSeconds seconds;
   double wall_seconds = 0;
 };
@@ -130,6 +135,8 @@ class Episode {
   std::vector<std::string> cleanPrefixes(const Candidates& judged) const;
   // The cells no path or ray of the whole-level terms may cross: F, less the start cell.
   std::set<Cell> blockedFrom(const Cell& start) const;
+  // The goal figures of a step starting in `start` (StepRecord::goal_*).
+  void recordGoal(const Cell& start, StepRecord& record) const;
   // An admissible translation was judged: the agent moves on.
   static bool movesOn(const Candidates& judged);
   // [ours] Actions that fit the room (policy.short_translation_frames, short_turn_frames,

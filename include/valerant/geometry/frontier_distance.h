@@ -41,6 +41,7 @@ class FrontierDistance {
 
   static constexpr double kUnreachable = std::numeric_limits<double>::infinity();
   bool isGoalFrontier(const Cell& c) const;
+  int goalFrontierCells() const { return goal_frontier_cells_; }
   // D(c) in cells; kUnreachable outside the grid or where no frontier is reachable.
   double at(const Cell& c) const;
   // G of a candidate from `start` to `end` (cells), in forward actions.
@@ -57,6 +58,7 @@ class FrontierDistance {
   const CoverageGrid& grid_;
   std::set<Cell> blocked_;
   std::vector<double> distance_;  // row-major, grid.size()^2
+  int goal_frontier_cells_ = 0;
 };
 
 }  // namespace valerant
