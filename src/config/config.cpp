@@ -191,6 +191,7 @@ void readPolicy(Section s, PolicyConfig& p) {
   s.number("goal_weight", p.goal_weight, 0.0, 1e6);
   s.number("obstacle_min_points", p.obstacle_min_points, 1, 1000000);
   s.number("max_cell_rise", p.max_cell_rise, 0.0, 100.0);
+  s.number("surface_carving_ratio", p.surface_carving_ratio, 0.0, 1e6);
   s.numbers("short_translation_frames", p.short_translation_frames, 1, 10000);
   s.numbers("short_turn_frames", p.short_turn_frames, 1, 10000);
   s.boolean("open_turn", p.open_turn);

@@ -79,14 +79,20 @@ void Episode::markGrid(const FusedKeyframe& keyframe) {
   // Floor points mark observed floor; points at body height (the collision test's band)
   // mark obstacles, which only the whole-level terms read (coverage_grid.h).
   // With the surface layer every point below the band's top (not overhead) also marks
-  // the height of what stands in its cell.
+  // the height of what stands in its cell, and with carving the ray to it marks the cells
+  // it crossed as free where it crossed them.
   const CollisionConfig& band = config_.collision;
+  const Eigen::Vector3d eye = keyframe.camera_to_map.translation();
   for (const auto& p : keyframe.points) {
+    const Eigen::Vector3d position = p.position.cast<double>();
     if (std::abs(p.h) < band.height_low)
-      grid_->markObservedFloor(p.position.cast<double>());
+      grid_->markObservedFloor(position);
     else if (p.h <= band.height_high)
-      grid_->markObstaclePoint(p.position.cast<double>());
-    if (p.h <= band.height_high) grid_->markSurfacePoint(p.position.cast<double>());
+      grid_->markObstaclePoint(position);
+    if (p.h <= band.height_high) {
+      grid_->markSurfacePoint(position);
+      grid_->markSurfaceRay(eye, position, p.h, band.height_low);
+    }
   }
 }
 

@@ -1,5 +1,6 @@
 #include "valerant/geometry/coverage_grid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -7,7 +8,9 @@ namespace valerant {
 
 CoverageGrid::CoverageGrid(const PolicyConfig& config, const FloorPlane& anchor, const Eigen::Vector3d& heading,
                            double d_fwd_normalised)
-    : config_(config), size_(config.grid_cells), surface_(config.max_cell_rise, config.obstacle_min_points) {
+    : config_(config),
+      size_(config.grid_cells),
+      surface_(config.max_cell_rise, config.obstacle_min_points, config.surface_carving_ratio) {
   normal_ = anchor.n.normalized();
   kappa_ = anchor.cameraHeight();
   d_fwd_map_ = d_fwd_normalised * kappa_;
@@ -43,6 +46,40 @@ void CoverageGrid::markVisited(const Eigen::Vector3d& camera_centre) {
 void CoverageGrid::markSurfacePoint(const Eigen::Vector3d& point) {
   Cell c;
   if (surfaces() && cellOf(point, c)) surface_.addPoint(index(c), heightOf(point));
+}
+
+void CoverageGrid::markSurfaceRay(const Eigen::Vector3d& eye, const Eigen::Vector3d& point, double point_own_height,
+                                  double lowest_own_height) {
+  if (!surfaces() || !surface_.carving()) return;
+  // The ray runs from t = 0 (eye, own height 1) to t = 1 (point); it stops where its own
+  // height falls to lowest_own_height, at the point's cell, or where it leaves the grid.
+  const double t_stop =
+      point_own_height < lowest_own_height ? (1.0 - lowest_own_height) / (1.0 - point_own_height) : 1.0;
+  // Shifted by half a cell, cell (i, j) spans [i, i + 1) x [j, j + 1): a 2D DDA over it.
+  const Eigen::Vector2d a = cellCoordinates(eye) + Eigen::Vector2d::Constant(0.5);
+  const Eigen::Vector2d d = cellCoordinates(point) + Eigen::Vector2d::Constant(0.5) - a;
+  const double from = heightOf(eye), rise = heightOf(point) - from;
+  const Cell end{static_cast<int>(std::floor(a.x() + d.x())), static_cast<int>(std::floor(a.y() + d.y()))};
+  Cell c{static_cast<int>(std::floor(a.x())), static_cast<int>(std::floor(a.y()))};
+  constexpr double kNever = std::numeric_limits<double>::infinity();
+  const int step_i = d.x() > 0 ? 1 : -1, step_j = d.y() > 0 ? 1 : -1;
+  const double delta_i = d.x() != 0 ? 1.0 / std::abs(d.x()) : kNever;
+  const double delta_j = d.y() != 0 ? 1.0 / std::abs(d.y()) : kNever;
+  double next_i = d.x() != 0 ? ((step_i > 0 ? c.first + 1 : c.first) - a.x()) / d.x() : kNever;
+  double next_j = d.y() != 0 ? ((step_j > 0 ? c.second + 1 : c.second) - a.y()) / d.y() : kNever;
+  for (double t = 0; c != end && t < t_stop && inside(c);) {
+    const double out = std::min({next_i, next_j, t_stop});
+    surface_.addPass(index(c), from + t * rise, from + out * rise);
+    if (next_i < next_j) {
+      c.first += step_i;
+      t = next_i;
+      next_i += delta_i;
+    } else {
+      c.second += step_j;
+      t = next_j;
+      next_j += delta_j;
+    }
+  }
 }
 
 bool CoverageGrid::walkable(const Cell& c) const {

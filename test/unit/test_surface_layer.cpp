@@ -141,3 +141,112 @@ TEST(SurfaceLayer, TheGoalClimbsAStaircaseTheFlatModelTakesForAWall) {
   EXPECT_FALSE(flat_grid.walkable({66, 64}));
   EXPECT_EQ(FrontierDistance(flat_grid, {}).at(start), FrontierDistance::kUnreachable);
 }
+
+TEST(SurfaceLayer, CarvingDropsBinsMoreRaysCrossedThanPointsFill) {
+  // A floor cell filled with scatter: points 0.02, 0.25, 0.5, 0.75, 0.95 (bins 128, 130,
+  // 133, 135, 137; gaps of at most 2 bins): one run of 0.9, a face.
+  auto scattered = [](SurfaceLayer& layer) { addPoints(layer, 1, {0.02, 0.25, 0.5, 0.75, 0.95}); };
+  SurfaceLayer plain(0.7, 3);
+  scattered(plain);
+  plain.addPass(1, 0.45, 1.05);  // ignored without carving
+  EXPECT_FALSE(plain.height(1));
+  // Four rays crossed it between 0.45 and 1.05 (bins 132 to 138): at ratio 1, bins 133,
+  // 135 and 137 (3 points, 4 rays) drop out; the run is 128 and 130, whose top is
+  // -12.8 + 131 * 0.1 = 0.3.
+  SurfaceLayer carved(0.7, 3, 1.0);
+  scattered(carved);
+  for (int i = 0; i < 4; ++i) carved.addPass(1, 1.05, 0.45);  // either order
+  ASSERT_TRUE(carved.height(1));
+  EXPECT_NEAR(*carved.height(1), 0.3, 1e-9);
+  // At ratio 0.5, 3 points outweigh 0.5 * 4 rays: the face stays.
+  SurfaceLayer lenient(0.7, 3, 0.5);
+  scattered(lenient);
+  for (int i = 0; i < 4; ++i) lenient.addPass(1, 0.45, 1.05);
+  EXPECT_FALSE(lenient.height(1));
+  // A cell whose every point was crossed is still seen, with no surface.
+  addPoints(carved, 2, {0.5});
+  for (int i = 0; i < 4; ++i) carved.addPass(2, 0.45, 0.55);
+  EXPECT_TRUE(carved.seen(2));
+  EXPECT_FALSE(carved.height(2));
+}
+
+TEST(SurfaceLayer, SaturatingCountsHalveTheWholeCell) {
+  SurfaceLayer layer(0.7, 3);
+  // 4 points at 0.5 (bin 133) over a floor at 0.02 (bin 128), 4 empty bins apart (more
+  // than kRunGap): the top run is bin 133 alone, height 0.6.
+  for (int i = 0; i < 4; ++i) layer.addPoint(1, 0.5);
+  for (int i = 0; i < 65535; ++i) layer.addPoint(1, 0.02);
+  ASSERT_TRUE(layer.height(1));
+  EXPECT_NEAR(*layer.height(1), 0.6, 1e-9);
+  // The 65536th floor point halves the cell: bin 128 holds 32767 + 1, bin 133 holds 2,
+  // under min_points 3: the surface is the floor's bin, top 0.1.
+  layer.addPoint(1, 0.02);
+  ASSERT_TRUE(layer.height(1));
+  EXPECT_NEAR(*layer.height(1), 0.1, 1e-9);
+}
+
+TEST(SurfaceLayer, RaysFromTheEyeCarveTheScatterBeforeAWall) {
+  // Unit cells (as above): the eye at (0, 0, 1) over the anchor floor z = 0, which is
+  // also its keyframe's floor, so own heights are z. A wall at x = 4 (points 0.02, 0.3,
+  // 0.6, 0.9, 1.15, three each) and, at x = 2, floor points with the wall's scatter
+  // (0.02, 0.25, 0.5, 0.75, 0.95: a face, as in the test above).
+  FloorPlane anchor;
+  anchor.q = {0, 0, 0};
+  anchor.n = {0, 0, 1};
+  anchor.c = {0, 0, 1};
+  PolicyConfig config;
+  config.max_cell_rise = 0.7;
+  auto build = [&](double carving_ratio) {
+    PolicyConfig c = config;
+    c.surface_carving_ratio = carving_ratio;
+    CoverageGrid g(c, anchor, Eigen::Vector3d::UnitX(), 8.0);
+    const Eigen::Vector3d eye(0, 0, 1);
+    auto points = [&](double x, std::initializer_list<double> heights) {
+      for (double h : heights)
+        for (int i = 0; i < 3; ++i) {
+          g.markSurfacePoint({x, 0, h});
+          g.markSurfaceRay(eye, {x, 0, h}, h, 0.18);
+        }
+    };
+    points(2, {0.02, 0.25, 0.5, 0.75, 0.95});
+    points(4, {0.02, 0.3, 0.6, 0.9, 1.15});
+    return g;
+  };
+  // Cell x = 2 spans x 1.5 to 2.5, t 0.375 to 0.625 of each ray to the wall. Ray to
+  // height h crosses it from 1 + 0.375 (h - 1) down to 1 + 0.625 (h - 1):
+  //   h 0.02 (stops at own height 0.18, t 0.837, beyond the cell): 0.6325-0.3875, bins 131-134
+  //   h 0.3: 0.7375-0.5625, bins 133-135;  h 0.6: 0.85-0.75, bins 135-136
+  //   h 0.9: 0.9625-0.9375, bin 137;  h 1.15: 1.05625-1.09375, bin 138
+  // Three rays each: bins 133 and 135 six passes, 137 three; the cell's own points (rays
+  // that end in it) cross only cells 0 and 1. At ratio 1.5 bins 133 (3 points, 6 rays),
+  // 135 (3, 6) and 137 (3, 3 * 1.5 = 4.5 needed) drop out: the run 128, 130, height 0.3.
+  const CoverageGrid carved = build(1.5);
+  ASSERT_TRUE(carved.walkable({66, 64}));
+  const CoverageGrid plain = build(0);
+  EXPECT_FALSE(plain.walkable({66, 64}));
+  // No ray passes through the cell it ends in: the wall stays a face.
+  EXPECT_FALSE(carved.walkable({68, 64}));
+  EXPECT_FALSE(carved.unknown({68, 64}));
+}
+
+TEST(SurfaceLayer, RaysToTheFloorStopAboveIt) {
+  // The eye at (0, 0, 1); floor points at x = 1 (0.02, bin 128); ten rays to a point
+  // beneath the floor at (2, 0, -0.5), own height -0.5. The ray's own height reaches 0.18
+  // at t = (1 - 0.18) / (1 + 0.5) = 0.547, x = 1.09: it stops inside cell 1 at height
+  // 0.18 (bin 129). Run on, it would cross cell 1 down to -0.125 at x = 1.5 (t 0.75) and
+  // carve the floor's bin 128 (3 points, 10 rays).
+  FloorPlane anchor;
+  anchor.q = {0, 0, 0};
+  anchor.n = {0, 0, 1};
+  anchor.c = {0, 0, 1};
+  PolicyConfig config;
+  config.max_cell_rise = 0.7;
+  config.surface_carving_ratio = 1.0;
+  CoverageGrid g(config, anchor, Eigen::Vector3d::UnitX(), 8.0);
+  for (int i = 0; i < 3; ++i) g.markSurfacePoint({1, 0, 0.02});
+  for (int i = 0; i < 10; ++i) g.markSurfaceRay({0, 0, 1}, {2, 0, -0.5}, -0.5, 0.18);
+  ASSERT_TRUE(g.walkable({65, 64}));
+  // The floor: the top of bin 128, 0.1; a step from there to a neighbour at 0.1 is fine.
+  for (int i = 0; i < 3; ++i) g.markSurfacePoint({1, 1, 0.02});
+  EXPECT_TRUE(g.traversable({65, 64}, {65, 65}));
+}

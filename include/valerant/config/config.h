@@ -88,6 +88,9 @@ struct PolicyConfig {
   // cells the whole-level paths step over, and within one cell's surface; 0 = the flat
   // model (floor and obstacle points over each keyframe's own floor).
   double max_cell_rise = 0;
+  // With the surface layer, free-space carving: a bin counts while its points number at
+  // least this times the rays that crossed it (surface_layer.h); 0 = no carving.
+  double surface_carving_ratio = 0;
   // When no translation (full or clean prefix) is admissible: fixed-length prefixes of
   // uw, jw, lw (frames, longest first) and shorter in-place turns (frames of jq, lq) ...
   std::vector<int> short_translation_frames;

@@ -74,6 +74,12 @@ class CoverageGrid {
   // A map point for the surface layer (one below the obstacle band's top over its own
   // keyframe's floor); ignored without the layer.
   void markSurfacePoint(const Eigen::Vector3d& point);
+  // With carving (surface_layer.h), the ray from a keyframe's eye to one of its surface
+  // points: the cells it crosses before the point's own, at the heights it crosses them,
+  // while it runs above `lowest_own_height` over its keyframe's floor (from 1 at the eye to
+  // `point_own_height` at the point), so that rays ending on the floor do not carve it.
+  void markSurfaceRay(const Eigen::Vector3d& eye, const Eigen::Vector3d& point, double point_own_height,
+                      double lowest_own_height);
   bool surfaces() const { return config_.max_cell_rise > 0; }
   // Normalised height of a map-frame point over the anchor floor.
   double heightOf(const Eigen::Vector3d& p) const { return normal_.dot(p - origin_) / kappa_; }

@@ -21,6 +21,17 @@
 //    most max_rise over the first (stairs rise at most 0.64 a cell of one metre; a wall
 //    more); any drop is a step, as a player walking off a ledge falls to the floor below
 //    (most of the floor a player reaches from a spawn lies on lower storeys).
+// Free-space carving ([ours], policy.surface_carving_ratio > 0; off by default): the
+// rays from each keyframe's eye to its points pass through cells on their way, and a
+// bin a ray crossed (addPass) was empty when that keyframe looked. A bin then takes part
+// in the runs above only while its points number at least carving_ratio times the rays
+// that crossed it. Visual depth scatters a wall's points into the room before it, and
+// hundreds of keyframes fill every bin of a floor cell up to the body band's top (a
+// face); the many rays to the far walls cross those bins and carve them away, while a
+// real wall ends most of the rays that reach it (what OctoMap's hits and misses do,
+// in one column a cell). `seen` counts points alone: a cell carved empty was seen.
+// Counts saturate by halving a cell's bins (points and passes together), which keeps
+// their ratios.
 // Cells are indices of the owning grid; only cells that received a point are stored.
 #include <array>
 #include <cstddef>
@@ -38,24 +49,35 @@ class SurfaceLayer {
   // Points of a wall seen from afar lie a few bins apart; two storeys lie many apart.
   static constexpr double kRunGap = 0.3;
 
-  SurfaceLayer(double max_rise, int min_points) : max_rise_(max_rise), min_points_(min_points) {}
+  SurfaceLayer(double max_rise, int min_points, double carving_ratio = 0)
+      : max_rise_(max_rise), min_points_(min_points), carving_ratio_(carving_ratio) {}
 
   void addPoint(size_t cell, double height);
   void addStand(size_t cell, double floor_height);
+  // A ray crossed the cell between these heights (either order); ignored without carving.
+  void addPass(size_t cell, double height_a, double height_b);
+  bool carving() const { return carving_ratio_ > 0; }
   bool seen(size_t cell) const;
   std::optional<double> height(size_t cell) const;
   bool step(size_t from, size_t to) const;
 
  private:
+  using Counts = std::array<uint16_t, kBins>;
   struct Bins {
-    std::array<uint8_t, kBins> counts{};  // saturating at 255
-    std::optional<double> stood;          // lowest floor the agent stood on here
+    Counts counts{};               // points
+    std::optional<double> stood;  // lowest floor the agent stood on here
   };
   static int binOf(double height);
+  // Whether bin `bin` of a cell takes part in its runs: min_points points, and with
+  // carving at least carving_ratio times the rays that crossed it.
+  bool dense(size_t cell, const Counts& counts, int bin) const;
+  void halve(size_t cell);
 
   double max_rise_;
   int min_points_;
+  double carving_ratio_;
   std::unordered_map<size_t, Bins> cells_;
+  std::unordered_map<size_t, Counts> passes_;  // with carving only
 };
 
 }  // namespace valerant
