@@ -363,6 +363,8 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
             "--set policy.open_turn=maybe: policy.open_turn: expected true or false, got 'maybe'");
   EXPECT_EQ(errorOfOverride("policy.max_cell_rise", "-0.1"),
             "--set policy.max_cell_rise=-0.1: policy.max_cell_rise: value -0.1 outside [0, 100]");
+  EXPECT_EQ(errorOfOverride("policy.surface_carving_ratio", "-1"),
+            "--set policy.surface_carving_ratio=-1: policy.surface_carving_ratio: value -1 outside [0, 1e+06]");
   EXPECT_EQ(errorOfOverride("policy.goal_move", "1.5"),
             "--set policy.goal_move=1.5: policy.goal_move: expected true or false, got '1.5'");
   EXPECT_EQ(errorOfOverride("collision.step_height", "-0.1"),
@@ -417,6 +419,7 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.policy.no_turn_back, built_in.no_turn_back);
   EXPECT_EQ(shipped.policy.goal_move, built_in.goal_move);
   EXPECT_EQ(shipped.policy.max_cell_rise, built_in.max_cell_rise);
+  EXPECT_EQ(shipped.policy.surface_carving_ratio, built_in.surface_carving_ratio);
   EXPECT_EQ(shipped.collision.step_height, CollisionConfig().step_height);
   EXPECT_EQ(shipped.collision.climb_lag, CollisionConfig().climb_lag);
 }
