@@ -339,6 +339,7 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.boolean("keep_map", d.keep_map);
   s.boolean("forget_failed_when_trapped", d.forget_failed_when_trapped);
   s.boolean("free_way_back", d.free_way_back);
+  s.boolean("reach_past_known_pocket", d.reach_past_known_pocket);
   s.finish();
 }
 

@@ -202,7 +202,8 @@ StepRecord Episode::step() {
   record.new_floor_cells = signals.new_floor_cells;
   record.drop = signals.drop;
   release(rewinder_.recordStep(record.checkpoint, start_cell, record.chosen >= 0, rotation_only, cells, signals));
-  if (const auto decision = rewinder_.check()) rewind(*decision, record);
+  const auto in_failed = [this](const Cell& c) { return failed_.contains(c); };
+  if (const auto decision = rewinder_.check(in_failed)) rewind(*decision, record);
   // [ours] No rewind can follow this pocket, or this stall: the cells earlier rewinds
   // walled off may be all that holds the agent (docs/pockets.md), so F is forgotten and
   // the next step judges its candidates without it; only a stall that forgot nothing is
@@ -424,6 +425,7 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
   record.rewind_stagnant = decision.stagnant;
   record.rewind_to = decision.checkpoint;
   record.discarded_steps = decision.discarded_steps;
+  record.rewind_reached_past = decision.reached_past;
   release(rewinder_.apply(decision));
 }
 

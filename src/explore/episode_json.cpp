@@ -65,6 +65,7 @@ nlohmann::json toJson(const StepRecord& r) {
           {"discarded_steps", r.discarded_steps},
           {"failed_forgotten", r.failed_forgotten},
           {"way_back_freed", r.way_back_freed},
+          {"rewind_reached_past", r.rewind_reached_past},
           {"goal_frontiers", r.goal_frontiers},
           {"goal_distance", r.goal_distance},
           {"goal_distance_without_failed", r.goal_distance_without_failed},

@@ -60,7 +60,7 @@ bool RewindController::pocketDeclared() const {
   return stalled_ >= config_.rotation_only_steps || (config_.stagnant_steps > 0 && stagnant_ >= config_.stagnant_steps);
 }
 
-std::optional<RewindDecision> RewindController::check() {
+std::optional<RewindDecision> RewindController::check(const std::function<bool(const Cell&)>& in_failed) {
   if (!rewindsLeft() || !pocketDeclared()) return std::nullopt;
   const bool rotations = stalled_ >= config_.rotation_only_steps;
   // The most recent anchor: the last translational step, whose checkpoint is always held.
@@ -71,6 +71,18 @@ std::optional<RewindDecision> RewindController::check() {
     if (drop != steps_.rend()) anchor = drop;
   }
   RewindDecision d = rewindTo(anchor.base() - 1);
+  if (config_.reach_past_known_pocket && in_failed) {
+    const auto teaches_nothing = [&](const RewindDecision& r) {
+      return std::all_of(r.failed_cells.begin(), r.failed_cells.end(), in_failed);
+    };
+    int passed = 0;
+    while (teaches_nothing(d)) {
+      anchor = std::find_if(std::next(anchor), steps_.rend(), [](const Step& s) { return s.held; });
+      if (anchor == steps_.rend()) break;  // none further back: the paper's rewind
+      d = rewindTo(anchor.base() - 1);
+      d.reached_past = ++passed;
+    }
+  }
   d.stagnant = !rotations;
   return d;
 }

@@ -60,6 +60,9 @@ TEST(EpisodeJson, PocketSignalsAndStagnantRewinds) {
   record.way_back_freed = 4;
   EXPECT_EQ(toJson(record)["way_back_freed"], 4);
   EXPECT_EQ(toJson(StepRecord{})["way_back_freed"], 0);
+  record.rewind_reached_past = 2;
+  EXPECT_EQ(toJson(record)["rewind_reached_past"], 2);
+  EXPECT_EQ(toJson(StepRecord{})["rewind_reached_past"], 0);
   record.goal_frontiers = 12;
   record.goal_distance = -1;
   record.goal_distance_without_failed = 3.5;

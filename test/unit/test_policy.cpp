@@ -212,6 +212,54 @@ TEST(RewindController, DeadEndRewindsBeforeThePocketAndMarksIt) {
   EXPECT_EQ(r.retained(), (std::vector<uint64_t>{1}));
 }
 
+TEST(RewindController, AKnownPocketIsPassedOverToTheAnchorBefore) {
+  // Step 1 (checkpoint 1): forward (64,64) -> (68,64). Step 2 (checkpoint 2): a short
+  // walk from (68,64) that ends at (69,64). Then three rotations at (69,64).
+  auto walk_into_pocket = [](RewindController& r) {
+    r.recordStep(1, {64, 64}, true, false, {{64, 64}, {66, 64}, {68, 64}});
+    r.recordStep(2, {68, 64}, true, false, {{68, 64}, {69, 64}});
+    for (uint64_t c = 3; c <= 5; ++c) r.recordStep(c, {69, 64}, true, true, {{69, 64}});
+  };
+  const std::set<Cell> f_holds_the_pocket{{69, 64}};
+  const auto in_f = [&](const Cell& c) { return f_holds_the_pocket.count(c) > 0; };
+  const auto in_empty_f = [](const Cell&) { return false; };
+  DeadPocketConfig config;
+  config.reach_past_known_pocket = true;
+  // F already holds (69,64), all the rewind to anchor 2 would add (its own cell (68,64)
+  // stays free): it goes to anchor 1 and adds (66,64), (68,64), (69,64).
+  RewindController known(config);
+  walk_into_pocket(known);
+  const auto d = known.check(in_f);
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->checkpoint, 1u);
+  EXPECT_EQ(d->reached_past, 1);
+  EXPECT_EQ(d->discarded_steps, 5);
+  EXPECT_EQ(d->failed_cells, (std::set<Cell>{{66, 64}, {68, 64}, {69, 64}}));
+  EXPECT_EQ(known.apply(*d), (std::vector<uint64_t>{1, 2}));
+  // A pocket F does not know yet: the most recent anchor, as the paper.
+  RewindController fresh(config);
+  walk_into_pocket(fresh);
+  const auto first = fresh.check(in_empty_f);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->checkpoint, 2u);
+  EXPECT_EQ(first->reached_past, 0);
+  // Without the option, or without F's cells, the known pocket is rewound to anchor 2.
+  RewindController paper{DeadPocketConfig{}};
+  walk_into_pocket(paper);
+  EXPECT_EQ(paper.check(in_f)->checkpoint, 2u);
+  RewindController blind(config);
+  walk_into_pocket(blind);
+  EXPECT_EQ(blind.check()->checkpoint, 2u);
+  // With no anchor before it, the known pocket is rewound to the one there is.
+  RewindController alone(config);
+  alone.recordStep(2, {68, 64}, true, false, {{68, 64}, {69, 64}});
+  for (uint64_t c = 3; c <= 5; ++c) alone.recordStep(c, {69, 64}, true, true, {{69, 64}});
+  const auto only = alone.check(in_f);
+  ASSERT_TRUE(only);
+  EXPECT_EQ(only->checkpoint, 2u);
+  EXPECT_EQ(only->reached_past, 0);
+}
+
 TEST(RewindController, AnchorNeighbourhoodStaysOutOfF) {
   // The same dead end with radius 1: (73,64) borders the anchor cell (72,64) and stays
   // free, the pocket's cells (74,64) and (75,64) are marked.

@@ -209,6 +209,11 @@ struct DeadPocketConfig {
   // otherwise wall off its way back out (rewind_controller.h, docs/pockets.md).
   // false = the paper: every cell of the discarded segment goes into F.
   bool free_way_back = false;
+  // [ours] A rewind whose discarded steps would add no cell to F (their walk stayed in
+  // the anchor's cell or in F: a known pocket replayed from the same state, which the
+  // same choices would enter again) goes to the held anchor before instead, and so on
+  // (rewind_controller.h). false = the paper: the most recent anchor.
+  bool reach_past_known_pocket = false;
 };
 
 struct MapConfig {

@@ -39,8 +39,16 @@
 // again and again they all go). In the 150-step runs most episodes ended so, turning in
 // place for tens of steps with every translation colliding or entering F
 // (docs/pockets.md); with dead_pocket.forget_failed_when_trapped the Episode then forgets F.
+//
+// [ours] Known pockets (dead_pocket.reach_past_known_pocket): a rewind whose discarded
+// steps would add no cell to F teaches the agent nothing; from the restored state the
+// same choices walk into the same pocket (a short walk that never left the anchor's
+// cell, then three turns, rewound again and again until no rewind is left). Such a
+// rewind goes to the held anchor before instead, and on, until one adds a cell or none
+// is held.
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <optional>
 #include <set>
 #include <vector>
@@ -55,6 +63,7 @@ struct RewindDecision {
   int discarded_steps = 0;           // committed steps undone
   std::set<Cell> failed_cells;       // cells to add to F (the anchor's neighbourhood excluded)
   bool stagnant = false;             // [ours] declared by the stagnant-pocket rule, not by rotations
+  int reached_past = 0;              // [ours] anchors passed over as known pockets (reach_past_known_pocket)
 };
 
 // [ours] What a step did for the stagnant-pocket rule (see above).
@@ -74,8 +83,9 @@ class RewindController {
   // step's own, unless it is an anchor).
   std::vector<uint64_t> recordStep(uint64_t checkpoint, const Cell& start_cell, bool committed,
                                    bool rotation_only, const std::set<Cell>& cells, const PocketSignals& signals = {});
-  // A rewind when a dead pocket is declared and one is allowed and possible.
-  std::optional<RewindDecision> check();
+  // A rewind when a dead pocket is declared and one is allowed and possible;
+  // `in_failed` tells which cells F holds (for reach_past_known_pocket; none: the paper).
+  std::optional<RewindDecision> check(const std::function<bool(const Cell&)>& in_failed = {});
   // Applies `decision` (after the caller restored its checkpoint); returns checkpoints
   // that are no longer needed.
   std::vector<uint64_t> apply(const RewindDecision& decision);
