@@ -17,6 +17,23 @@ void addPoints(SurfaceLayer& layer, size_t cell, std::initializer_list<double> h
     for (int i = 0; i < 3; ++i) layer.addPoint(cell, h);
 }
 
+// The anchor floor z = 0 with the eye at z = 1: unit eye heights, and with
+// d_fwd_normalised 8 over cells_per_d_fwd 8, unit cells; cell (64 + x, 64 + y) holds
+// the floor point (x, y).
+FloorPlane unitAnchor() {
+  FloorPlane anchor;
+  anchor.q = {0, 0, 0};
+  anchor.n = {0, 0, 1};
+  anchor.c = {0, 0, 1};
+  return anchor;
+}
+
+PolicyConfig surfaceConfig() {
+  PolicyConfig config;
+  config.max_cell_rise = 0.7;
+  return config;
+}
+
 }  // namespace
 
 TEST(SurfaceLayer, HeightIsTheTopOfTheTopRun) {
@@ -74,12 +91,8 @@ TEST(SurfaceLayer, TheGoalClimbsAStaircaseTheFlatModelTakesForAWall) {
   // holds the floor point (x, y). A corridor y = 0 walled at y = +-1: the agent stands
   // at x = 0, floor at x = 1, stairs up at x = 2, 3, 4 (surfaces 0.5, 1.0, 1.5), unknown
   // beyond at x = 5, so the frontier is x = 4.
-  FloorPlane anchor;
-  anchor.q = {0, 0, 0};
-  anchor.n = {0, 0, 1};
-  anchor.c = {0, 0, 1};
-  PolicyConfig config;
-  config.max_cell_rise = 0.7;
+  const FloorPlane anchor = unitAnchor();
+  PolicyConfig config = surfaceConfig();
   auto build = [&](const PolicyConfig& c, double third_step) {
     CoverageGrid g(c, anchor, Eigen::Vector3d::UnitX(), 8.0);
     auto points = [&](double x, double y, std::initializer_list<double> heights) {
@@ -190,12 +203,8 @@ TEST(SurfaceLayer, RaysFromTheEyeCarveTheScatterBeforeAWall) {
   // also its keyframe's floor, so own heights are z. A wall at x = 4 (points 0.02, 0.3,
   // 0.6, 0.9, 1.15, three each) and, at x = 2, floor points with the wall's scatter
   // (0.02, 0.25, 0.5, 0.75, 0.95: a face, as in the test above).
-  FloorPlane anchor;
-  anchor.q = {0, 0, 0};
-  anchor.n = {0, 0, 1};
-  anchor.c = {0, 0, 1};
-  PolicyConfig config;
-  config.max_cell_rise = 0.7;
+  const FloorPlane anchor = unitAnchor();
+  PolicyConfig config = surfaceConfig();
   auto build = [&](double carving_ratio) {
     PolicyConfig c = config;
     c.surface_carving_ratio = carving_ratio;
@@ -235,12 +244,8 @@ TEST(SurfaceLayer, RaysToTheFloorStopAboveIt) {
   // at t = (1 - 0.18) / (1 + 0.5) = 0.547, x = 1.09: it stops inside cell 1 at height
   // 0.18 (bin 129). Run on, it would cross cell 1 down to -0.125 at x = 1.5 (t 0.75) and
   // carve the floor's bin 128 (3 points, 10 rays).
-  FloorPlane anchor;
-  anchor.q = {0, 0, 0};
-  anchor.n = {0, 0, 1};
-  anchor.c = {0, 0, 1};
-  PolicyConfig config;
-  config.max_cell_rise = 0.7;
+  const FloorPlane anchor = unitAnchor();
+  PolicyConfig config = surfaceConfig();
   config.surface_carving_ratio = 1.0;
   CoverageGrid g(config, anchor, Eigen::Vector3d::UnitX(), 8.0);
   for (int i = 0; i < 3; ++i) g.markSurfacePoint({1, 0, 0.02});
