@@ -11,7 +11,14 @@ namespace valerant {
 BranchCheck::BranchCheck(const Config& config, CommittedSteps committed)
     : config_(config.collision),
       committed_(config.collision.previous_steps > 0 ? std::move(committed) : CommittedSteps{}),
-      d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units) {}
+      d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units),
+      fov_x_deg_(config.world.fov_x_deg) {}
+
+namespace {
+// The depth views keep every second pixel a side: the visual depth is swept at half
+// resolution and scaled up by nearest pixel, so nothing it measured is lost.
+constexpr int kDepthViewShrink = 2;
+}  // namespace
 
 void BranchCheck::add(const TrackedFrame& frame, const KeyframeCloud* keyframe, const FloorPlane& floor) {
   if (frame.state == TrackingState::kLost && first_lost_ < 0) first_lost_ = static_cast<int>(samples_.size());
@@ -20,6 +27,12 @@ void BranchCheck::add(const TrackedFrame& frame, const KeyframeCloud* keyframe, 
   poses_.push_back(frame.camera_to_map);
   central_depths_.push_back(frame.depth.empty() ? std::nan("")
                                                 : centralMeanDepth(frame.depth, config_.center_fraction));
+  if (config_.see_through_frames > 0 && frame.state != TrackingState::kLost && !frame.depth.empty()) {
+    depth_views_.push_back(depthViewOf(frame.camera_to_map, frame.depth, frame.confidence, config_.min_confidence,
+                                       kDepthViewShrink));
+    const cv::Mat& d = depth_views_.back().depth;
+    view_intrinsics_ = CameraIntrinsics::fromHorizontalFov(d.cols, d.rows, fov_x_deg_);
+  }
 }
 
 std::vector<FloorPlane> BranchCheck::floors() const {
@@ -129,6 +142,17 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
           const double h = own ? static_cast<double>(p.h) : start.normalisedHeight(x);
           if (counted(h, p.confidence)) points.push_back({x, h, p.confidence});
         }
+    }
+    if (config_.see_through_frames > 0 && !rotation_only && !depth_views_.empty()) {
+      // Floor points (under eta_low) are no obstacle to either body and stay untested.
+      const auto seen_through = [&](const HeightedPoint& p) {
+        return p.h >= config_.height_low &&
+               freeSpaceEvidence(p.position, depth_views_, view_intrinsics_, config_.see_through_tolerance)
+                   .seenThrough(config_.see_through_frames);
+      };
+      const auto kept = std::remove_if(points.begin(), points.end(), seen_through);
+      v.see_through_points = static_cast<int>(points.end() - kept);
+      points.erase(kept, points.end());
     }
     const std::vector<std::vector<int>> counts = bodyCylinderCounts(points, floors, config_, radii);
     const PointCloudCollision pc = pointCloudCollisionFromCounts(counts.front(), config_, rotation_only);

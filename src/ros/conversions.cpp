@@ -282,6 +282,7 @@ valerant::Verdict toMsg(const BranchVerdict& v, const std::vector<Eigen::Vector3
   msg.min_near_ratio = v.min_near_ratio;
   msg.body_counts.assign(v.body_counts.begin(), v.body_counts.end());
   msg.start_occupied = static_cast<uint32_t>(std::max(0, v.start_occupied));
+  msg.see_through_points = static_cast<uint32_t>(std::max(0, v.see_through_points));
   msg.slam_lost = v.slam_lost;
   msg.floor_unknown = v.floor_unknown;
   msg.enters_failed = v.enters_failed;
@@ -313,6 +314,7 @@ BranchVerdict fromMsg(const valerant::Verdict& msg) {
   v.min_near_ratio = msg.min_near_ratio;
   v.body_counts.assign(msg.body_counts.begin(), msg.body_counts.end());
   v.start_occupied = static_cast<int>(msg.start_occupied);
+  v.see_through_points = static_cast<int>(msg.see_through_points);
   v.slam_lost = msg.slam_lost;
   v.floor_unknown = msg.floor_unknown;
   v.enters_failed = msg.enters_failed;
@@ -364,7 +366,10 @@ valerant::SlamFrame toMsg(const TrackedFrame& frame, const KeyframeCloud* keyfra
   msg.camera_to_map = toMsg(frame.camera_to_map);
   msg.keyframe = keyframe != nullptr;
   msg.parallax_free = frame.rotation_only;
-  if (with_depth) msg.depth = toImageMsg(frame.depth);
+  if (with_depth) {
+    msg.depth = toImageMsg(frame.depth);
+    msg.confidence = toImageMsg(frame.confidence);
+  }
   if (keyframe) {
     msg.keyframe_index = static_cast<uint32_t>(keyframe->keyframe);
     msg.keyframe_frame = static_cast<uint32_t>(keyframe->frame);
@@ -381,6 +386,8 @@ TrackedFrame trackedFrameFromMsg(const valerant::SlamFrame& msg) {
   f.keyframe = msg.keyframe;
   f.rotation_only = msg.parallax_free;
   f.depth = fromImageMsg(msg.depth);
+  f.confidence = fromImageMsg(msg.confidence);
+  if (f.confidence.size() != f.depth.size()) throw InputError("slam frame's confidence", "not the size of its depth");
   return f;
 }
 

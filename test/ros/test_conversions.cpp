@@ -204,6 +204,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   v.occupied_max = 12;
   v.body_counts = {0, 3, 12, 7};
   v.start_occupied = 44;
+  v.see_through_points = 17;
   v.min_near_ratio = 0.1;
   v.slam_lost = true;
   v.floor_unknown = true;
@@ -229,6 +230,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   EXPECT_EQ(back.ends_in_contact, v.ends_in_contact);
   EXPECT_EQ(back.body_counts, v.body_counts);
   EXPECT_EQ(back.start_occupied, v.start_occupied);
+  EXPECT_EQ(back.see_through_points, v.see_through_points);
   EXPECT_EQ(back.min_near_ratio, v.min_near_ratio);
   EXPECT_EQ(back.slam_lost, v.slam_lost);
   EXPECT_EQ(back.floor_unknown, v.floor_unknown);
@@ -293,7 +295,7 @@ TEST(Conversions, TrackedFrameAndKeyframeRoundTripExactly) {
   EXPECT_EQ(back.keyframe, frame.keyframe);
   EXPECT_EQ(back.rotation_only, frame.rotation_only);
   expectSameImage(back.depth, frame.depth);
-  EXPECT_TRUE(back.confidence.empty());  // stays home by design
+  expectSameImage(back.confidence, frame.confidence);  // free-space evidence reads it (branch_check.h)
   const KeyframeCloud kf = keyframeFromMsg(msg);
   EXPECT_EQ(kf.keyframe, keyframe.keyframe);
   EXPECT_EQ(kf.frame, keyframe.frame);
@@ -306,6 +308,11 @@ TEST(Conversions, TrackedFrameAndKeyframeRoundTripExactly) {
   const valerant::SlamFrame plain = toMsg(frame, nullptr, false);
   EXPECT_FALSE(plain.keyframe);
   EXPECT_TRUE(trackedFrameFromMsg(plain).depth.empty());
+  EXPECT_TRUE(trackedFrameFromMsg(plain).confidence.empty());
+  // A confidence that is not the depth's size is named, not read past its end.
+  valerant::SlamFrame odd = msg;
+  odd.confidence = toImageMsg(cv::Mat(2, 2, CV_32FC1, cv::Scalar(1)));
+  EXPECT_THROW(trackedFrameFromMsg(odd), InputError);
 }
 
 TEST(Conversions, DigestHoldsCountsAndPose) {

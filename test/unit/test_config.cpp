@@ -66,6 +66,8 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_EQ(c.collision.turn_contact_points, 0);  // [ours], off: the paper exempts every turn
   EXPECT_EQ(c.collision.turn_start_points, 0);    // [ours], off
   EXPECT_EQ(c.collision.end_clearance, 0.0);      // [ours], off
+  EXPECT_EQ(c.collision.see_through_frames, 0);   // [ours], off
+  EXPECT_DOUBLE_EQ(c.collision.see_through_tolerance, 0.3);
   EXPECT_NEAR(c.collision.center_fraction, 1.0 / 3.0, 1e-9);
   EXPECT_DOUBLE_EQ(c.collision.d_near, 0.455);
   EXPECT_DOUBLE_EQ(c.collision.s_min_coefficient, 0.085);
@@ -367,6 +369,10 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
             "--set policy.surface_carving_ratio=-1: policy.surface_carving_ratio: value -1 outside [0, 1e+06]");
   EXPECT_EQ(errorOfOverride("policy.goal_move", "1.5"),
             "--set policy.goal_move=1.5: policy.goal_move: expected true or false, got '1.5'");
+  EXPECT_EQ(errorOfOverride("collision.see_through_frames", "-1"),
+            "--set collision.see_through_frames=-1: collision.see_through_frames: value -1 outside [0, 100000]");
+  EXPECT_EQ(errorOfOverride("collision.see_through_tolerance", "0"),
+            "--set collision.see_through_tolerance=0: collision.see_through_tolerance: value 0 outside [0.01, 10]");
   EXPECT_EQ(errorOfOverride("collision.step_height", "-0.1"),
             "--set collision.step_height=-0.1: collision.step_height: value -0.1 outside [0, 10]");
   // Between 0 and eta_low, and from eta_high up: no step-aware cylinder.
@@ -423,6 +429,8 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.dead_pocket.reach_past_known_pocket, DeadPocketConfig().reach_past_known_pocket);
   EXPECT_EQ(shipped.collision.step_height, CollisionConfig().step_height);
   EXPECT_EQ(shipped.collision.climb_lag, CollisionConfig().climb_lag);
+  EXPECT_EQ(shipped.collision.see_through_frames, CollisionConfig().see_through_frames);
+  EXPECT_EQ(shipped.collision.see_through_tolerance, CollisionConfig().see_through_tolerance);
 }
 
 TEST(Config, LearnedWorldSectionHasTheModelsContractAndRanges) {

@@ -165,6 +165,14 @@ struct CollisionConfig {
   // there (the hull is axis-aligned: turning does not move it; docs/pockets.md). Only
   // the end pose is held to it, where the agent stands afterwards. 0 = off (the paper).
   double end_clearance = 0;
+  // [ours] > 0: a point of the branch or the committed steps counts in eq. 6 only while
+  // fewer than this many of the branch's frames saw past it, or no more of them than
+  // saw it where it is (free_space_evidence.h, docs/see_through.md): the visual depth
+  // scatters points into open space. 0 = off (the paper).
+  int see_through_frames = 0;
+  // ... a frame saw past a point at depth z when its depth there exceeds (1 + this) z,
+  // and saw it when within this share of z.
+  double see_through_tolerance = 0.3;
   double center_fraction = 1.0 / 3.0;
   double d_near = 0.455;
   double s_min_coefficient = 0.085;

@@ -26,6 +26,11 @@
 // points take their heights from the branch's first floor too, not from their own
 // keyframe's: the support the body climbs is one height along the branch, and a
 // keyframe's floor fitted on a stair would move the datum from point to point.
+//
+// Free-space evidence ([ours], collision.see_through_frames, free_space_evidence.h):
+// every frame's confident depth is kept (at half resolution), and before eq. 6 counts,
+// the points at or above eta_low that enough of the branch's frames saw past are left
+// out (see_through_points), the branch's own and the committed steps' alike.
 #include <memory>
 #include <optional>
 #include <string>
@@ -36,6 +41,7 @@
 #include "valerant/explore/branch_verdict.h"
 #include "valerant/explore/committed_points.h"
 #include "valerant/explore/depth_collision.h"
+#include "valerant/explore/free_space_evidence.h"
 #include "valerant/explore/point_cloud_collision.h"
 #include "valerant/slam/slam.h"
 
@@ -71,6 +77,9 @@ class BranchCheck {
   std::vector<Eigen::Isometry3d> poses_;
   std::vector<double> central_depths_;
   std::vector<KeyframePoints> keyframes_;
+  std::vector<DepthView> depth_views_;  // with collision.see_through_frames > 0
+  CameraIntrinsics view_intrinsics_;     // of depth_views_' images
+  double fov_x_deg_;
   int first_lost_ = -1;  // first frame the SLAM lost track, -1 = never
 };
 

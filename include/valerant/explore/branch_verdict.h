@@ -26,6 +26,9 @@ struct BranchVerdict {
   // which eq. 6 leaves out (branch_check.h).
   std::vector<int> body_counts;
   int start_occupied = 0;
+  // [ours] Points left out of eq. 6 because the branch's frames saw past them
+  // (collision.see_through_frames, free_space_evidence.h).
+  int see_through_points = 0;
   bool slam_lost = false;
   bool floor_unknown = false;  // a translation judged without any reliable floor
   bool enters_failed = false;

@@ -1,0 +1,44 @@
+#include "valerant/explore/free_space_evidence.h"
+
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+
+#include "valerant/common/error.h"
+
+namespace valerant {
+
+FreeSpaceEvidence freeSpaceEvidence(const Eigen::Vector3d& p, const std::vector<DepthView>& views,
+                                    const CameraIntrinsics& k, double tau) {
+  FreeSpaceEvidence e;
+  for (const DepthView& v : views) {
+    const Eigen::Vector3d x = v.map_to_camera * p;
+    if (!(x.z() > 0)) continue;
+    const double u = k.fx * x.x() / x.z() + k.cx, w = k.fy * x.y() / x.z() + k.cy;
+    if (!(u >= 0 && w >= 0 && u < v.depth.cols && w < v.depth.rows)) continue;
+    const float d = v.depth.at<float>(static_cast<int>(w), static_cast<int>(u));
+    if (!std::isfinite(d)) continue;
+    if (d > (1 + tau) * x.z())
+      ++e.through;
+    else if (std::abs(d - x.z()) <= tau * x.z())
+      ++e.support;
+  }
+  return e;
+}
+
+DepthView depthViewOf(const Eigen::Isometry3d& camera_to_map, const cv::Mat& depth, const cv::Mat& confidence,
+                      double min_confidence, int shrink) {
+  if (depth.type() != CV_32FC1 || confidence.type() != CV_32FC1 || depth.size() != confidence.size())
+    throw InputError("depth view", "depth and confidence must be CV_32F images of one size");
+  DepthView v;
+  v.map_to_camera = camera_to_map.inverse();
+  cv::Mat known = depth.clone();
+  known.setTo(std::numeric_limits<float>::quiet_NaN(), confidence < min_confidence);
+  if (shrink > 1)
+    cv::resize(known, v.depth, cv::Size(depth.cols / shrink, depth.rows / shrink), 0, 0, cv::INTER_NEAREST);
+  else
+    v.depth = known;
+  return v;
+}
+
+}  // namespace valerant
