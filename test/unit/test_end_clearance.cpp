@@ -8,21 +8,11 @@
 #include "walking_branch.h"
 
 using namespace valerant;
+using valerant::test::edgeAt;
 using valerant::test::floorBelow;
 using valerant::test::trackedAtZ;
 
 namespace {
-
-// A vertical edge (a brush's corner) known from the previous step: 40 confident points at
-// x = `x`, z = `z`, y = 0.05 .. 0.245 (normalised heights 0.51 .. 0.9 over the floor
-// y = 0.5, all within eq. 6's band).
-CommittedSteps edgeAt(float x, float z) {
-  KeyframeCloud edge;
-  for (int k = 0; k < 40; ++k) edge.points.push_back({Eigen::Vector3f(x, 0.05f + 0.005f * k, z), {}, 10.f});
-  CommittedPoints committed(Config().collision);
-  committed.add({edge}, {floorBelow(Eigen::Vector3d::Zero(), 0.5)});
-  return committed.points();
-}
 
 // Rho 0.30 (0.15 units at kappa 0.5), the prefix clearance as narrow, margin 0.5 eye
 // heights (0.25 units), min advance 0.1; `end_clearance` in eye heights.

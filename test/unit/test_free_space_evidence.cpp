@@ -11,6 +11,7 @@
 #include "walking_branch.h"
 
 using namespace valerant;
+using valerant::test::edgeAt;
 using valerant::test::floorBelow;
 using valerant::test::trackedAtZ;
 
@@ -88,16 +89,6 @@ TEST(FreeSpaceEvidence, ADepthWithoutItsConfidenceIsAnInputError) {
 
 namespace {
 
-// 40 committed points in the path at x = 0, z = 0.6, y = 0.05 .. 0.245 (normalised
-// heights 0.51 .. 0.9 over the floor y = 0.5, in eq. 6's band).
-CommittedSteps clusterAhead() {
-  KeyframeCloud cluster;
-  for (int k = 0; k < 40; ++k) cluster.points.push_back({Eigen::Vector3f(0, 0.05f + 0.005f * k, 0.6f), {}, 10.f});
-  CommittedPoints committed(Config().collision);
-  committed.add({cluster}, {floorBelow(Eigen::Vector3d::Zero(), 0.5)});
-  return committed.points();
-}
-
 // Rho 0.30 (0.15 units at kappa 0.5), no prefixes; `frames` for see_through_frames.
 Config seeThroughConfig(int frames) {
   Config config;
@@ -111,7 +102,8 @@ Config seeThroughConfig(int frames) {
 // confident depth (32 x 24 pixels, 90 degrees) is `depth_at(z)` at every pixel.
 template <typename DepthAt>
 BranchVerdict walkToward(const Config& config, DepthAt depth_at) {
-  BranchCheck check(config, clusterAhead());
+  // 40 committed points in the path at z = 0.6 (edgeAt, walking_branch.h).
+  BranchCheck check(config, edgeAt(0, 0.6f));
   for (int i = 0; i < 10; ++i) {
     TrackedFrame f = trackedAtZ(0.1 * i);
     f.depth = cv::Mat(24, 32, CV_32FC1, cv::Scalar(depth_at(0.1 * i)));
