@@ -30,8 +30,6 @@ void BranchCheck::add(const TrackedFrame& frame, const KeyframeCloud* keyframe, 
   if (config_.see_through_frames > 0 && frame.state != TrackingState::kLost && !frame.depth.empty()) {
     depth_views_.push_back(depthViewOf(frame.camera_to_map, frame.depth, frame.confidence, config_.min_confidence,
                                        kDepthViewShrink));
-    const cv::Mat& d = depth_views_.back().depth;
-    view_intrinsics_ = CameraIntrinsics::fromHorizontalFov(d.cols, d.rows, fov_x_deg_);
   }
 }
 
@@ -144,10 +142,13 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
         }
     }
     if (config_.see_through_frames > 0 && !rotation_only && !depth_views_.empty()) {
+      // Every frame of a branch has one depth size.
+      const cv::Mat& d = depth_views_.front().depth;
+      const CameraIntrinsics k = CameraIntrinsics::fromHorizontalFov(d.cols, d.rows, fov_x_deg_);
       // Floor points (under eta_low) are no obstacle to either body and stay untested.
       const auto seen_through = [&](const HeightedPoint& p) {
         return p.h >= config_.height_low &&
-               freeSpaceEvidence(p.position, depth_views_, view_intrinsics_, config_.see_through_tolerance)
+               freeSpaceEvidence(p.position, depth_views_, k, config_.see_through_tolerance)
                    .seenThrough(config_.see_through_frames);
       };
       const auto kept = std::remove_if(points.begin(), points.end(), seen_through);

@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "valerant/common/error.h"
+#include "valerant/slam/visual/pinhole.h"
 
 namespace valerant {
 
@@ -14,9 +15,9 @@ FreeSpaceEvidence freeSpaceEvidence(const Eigen::Vector3d& p, const std::vector<
   for (const DepthView& v : views) {
     const Eigen::Vector3d x = v.map_to_camera * p;
     if (!(x.z() > 0)) continue;
-    const double u = k.fx * x.x() / x.z() + k.cx, w = k.fy * x.y() / x.z() + k.cy;
-    if (!(u >= 0 && w >= 0 && u < v.depth.cols && w < v.depth.rows)) continue;
-    const float d = v.depth.at<float>(static_cast<int>(w), static_cast<int>(u));
+    const Eigen::Vector2d px = visual::project(k, x);
+    if (!(px.x() >= 0 && px.y() >= 0 && px.x() < v.depth.cols && px.y() < v.depth.rows)) continue;
+    const float d = v.depth.at<float>(static_cast<int>(px.y()), static_cast<int>(px.x()));
     if (!std::isfinite(d)) continue;
     if (d > (1 + tau) * x.z())
       ++e.through;

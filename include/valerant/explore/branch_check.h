@@ -78,8 +78,7 @@ class BranchCheck {
   std::vector<double> central_depths_;
   std::vector<KeyframePoints> keyframes_;
   std::vector<DepthView> depth_views_;  // with collision.see_through_frames > 0
-  CameraIntrinsics view_intrinsics_;     // of depth_views_' images
-  double fov_x_deg_;
+  double fov_x_deg_;                     // of depth_views_' images
   int first_lost_ = -1;  // first frame the SLAM lost track, -1 = never
 };
 
