@@ -342,6 +342,7 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.boolean("forget_failed_when_trapped", d.forget_failed_when_trapped);
   s.boolean("free_way_back", d.free_way_back);
   s.boolean("reach_past_known_pocket", d.reach_past_known_pocket);
+  s.boolean("ban_rewound_headings", d.ban_rewound_headings);
   s.finish();
 }
 

@@ -44,7 +44,8 @@ Episode::Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline
       config_(config),
       d_fwd_normalised_(config.world.d_fwd_units / config.world.eye_height_units),
       map_(config.map, config.collision),
-      rewinder_(config.dead_pocket) {
+      rewinder_(config.dead_pocket),
+      rewound_(config.rollout.turn_forward_deg / 4) {
   if (config.loop_closure.enabled)  // the oracle SLAM is metric: no scale to correct
     loop_closure_.emplace(config.loop_closure, world.intrinsics(), config.slam.backend != "oracle");
   const Rollout context = world_.context();
@@ -261,6 +262,8 @@ void Episode::judge(const std::vector<std::string>& names, const std::vector<std
     v.turns_back = config_.policy.no_turn_back && v.rotation_only && last_turn_deg_ &&
                    turnsBack(*last_turn_deg_, makeActionSequence(v.candidate, config_).totalYawDeg(),
                              config_.rollout.turn_forward_deg / 2);
+    v.rewound_before = config_.dead_pocket.ban_rewound_headings && !v.rotation_only &&
+                       rewound_.barred(committed_steps_, out.centres.back().back() - out.centres.back().front(), *grid_);
     Cell end_cell{-1, -1};
     grid_->cellOf(out.centres.back().back(), end_cell);
     v.goal = goal.goalTerm(start_cell, end_cell);
@@ -413,6 +416,13 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
     loop_closure_->restoreInto(map_, trajectory_);
   }
   failed_.add(decision.failed_cells);
+  // The step that started from the anchor committed the walk into the pocket.
+  const auto first = std::find_if(history_.begin(), history_.end(),
+                                  [&](const StepRecord& r) { return r.checkpoint == decision.checkpoint; });
+  if (first != history_.end() && first->chosen >= 0) {
+    const std::vector<Eigen::Vector3d>& walk = first->candidates[first->chosen].centres;
+    rewound_.rewoundTo(committed_steps_, walk.back() - walk.front());
+  }
   if (config_.dead_pocket.free_way_back) {  // [ours] the way the agent came in stays a way out
     std::set<Cell> kept;
     for (const Eigen::Isometry3d& pose : trajectory_) {

@@ -15,6 +15,7 @@ nlohmann::json toJson(const BranchVerdict& v) {
           {"coverage", v.coverage},         {"progress", v.progress},
           {"goal", v.goal},                 {"opening", v.opening},
           {"short_unclear", v.short_unclear}, {"turns_back", v.turns_back},
+          {"rewound_before", v.rewound_before},
           {"body_counts", v.body_counts},   {"start_occupied", v.start_occupied}, {"see_through_points", v.see_through_points},
           {"score", v.score},               {"admissible", v.admissible},
           {"reason", v.reason}};

@@ -31,6 +31,7 @@ int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& confi
     if (v.turn_in_contact) reason += "turn in place while in contact;";
     if (v.ends_in_contact) reason += "ends in contact;";
     if (v.enters_failed) reason += "enters failed region;";
+    if (v.rewound_before) reason += "heads into a pocket rewound from here;";
     if (v.short_unclear) reason += "short action not clear to its end;";
     if (config.max_progress > 0 && !(v.progress <= config.max_progress)) reason += "implausible motion;";
     if (!reason.empty()) reason.pop_back();

@@ -43,7 +43,7 @@ cv::Mat drawTopdown(const std::vector<FusedPoint>& points, const CoverageGrid& g
       const CandidateRecord& c = step.candidates[i];
       cv::Scalar colour(80, 200, 80);
       if (c.verdict.predictsCollision()) colour = cv::Scalar(230, 60, 60);
-      else if (c.verdict.enters_failed) colour = cv::Scalar(240, 150, 40);
+      else if (c.verdict.enters_failed || c.verdict.rewound_before) colour = cv::Scalar(240, 150, 40);
       else if (c.verdict.slam_lost) colour = cv::Scalar(128, 128, 128);
       for (size_t k = 1; k < c.centres.size(); ++k) {
         cv::line(image, pixel(c.centres[k - 1]), pixel(c.centres[k]), colour, 1, cv::LINE_AA);

@@ -40,7 +40,7 @@ constexpr Colour kAdmissible{0.1f, 0.8f, 0.1f}, kCollision{0.9f, 0.1f, 0.1f}, kF
 Colour verdictColour(const valerant::Verdict& v) {
   if (v.slam_lost || v.floor_unknown) return kLost;  // not judged
   if (valerant::bridge::fromMsg(v).predictsCollision()) return kCollision;
-  if (v.enters_failed) return kFailedRegion;
+  if (v.enters_failed || v.rewound_before) return kFailedRegion;
   return kAdmissible;
 }
 

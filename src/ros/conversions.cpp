@@ -291,6 +291,7 @@ valerant::Verdict toMsg(const BranchVerdict& v, const std::vector<Eigen::Vector3
   msg.goal = v.goal, msg.opening = v.opening;
   msg.short_unclear = v.short_unclear;
   msg.turns_back = v.turns_back;
+  msg.rewound_before = v.rewound_before;
   msg.score = v.score;
   msg.admissible = v.admissible;
   msg.reason = v.reason;
@@ -323,6 +324,7 @@ BranchVerdict fromMsg(const valerant::Verdict& msg) {
   v.goal = msg.goal, v.opening = msg.opening;
   v.short_unclear = msg.short_unclear;
   v.turns_back = msg.turns_back;
+  v.rewound_before = msg.rewound_before;
   v.score = msg.score;
   v.admissible = msg.admissible;
   v.reason = msg.reason;

@@ -214,6 +214,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   v.goal = -0.375, v.opening = 0.625;
   v.short_unclear = true;
   v.turns_back = true;
+  v.rewound_before = true;
   v.score = 3.14159;
   v.admissible = false;
   v.reason = "collision_pc";
@@ -244,6 +245,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   EXPECT_EQ(back.opening, v.opening);
   EXPECT_EQ(back.short_unclear, v.short_unclear);
   EXPECT_EQ(back.turns_back, v.turns_back);
+  EXPECT_EQ(back.rewound_before, v.rewound_before);
   EXPECT_EQ(back.score, v.score);
   EXPECT_EQ(back.admissible, v.admissible);
   EXPECT_EQ(back.reason, v.reason);

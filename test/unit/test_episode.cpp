@@ -3,6 +3,8 @@
 // restores world, SLAM and map to the anchor and grows the failed-region memory.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "openarena_data.h"
 #include "valerant/explore/episode.h"
 #include "valerant/explore/episode_json.h"
@@ -532,4 +534,53 @@ TEST(Episode, ARewindWithTheWayBackFreeLeavesTheKeptPathOutOfF) {
   EXPECT_EQ(paper.rewinding.way_back_freed, 0);
   EXPECT_EQ(freed.failed, paper_off_kept);
   EXPECT_EQ(freed.rewinding.way_back_freed, static_cast<int>(paper_on_kept.size()));
+}
+
+// [ours] dead_pocket.ban_rewound_headings: uw, then three turns in place: a dead pocket,
+// rewound to before the uw (the only anchor), with nothing committed. From that state a
+// translation is barred with the option exactly where its walk heads within 11.25
+// degrees of the uw's (on the floor, here the BSP's XY plane): uw itself, and clean
+// prefixes that walk nearly its line (lw@20 turns 16 degrees over its 20 frames, its
+// walk heads about 8 degrees off); jw and lw head 45 degrees and more away, and the turns
+// do not walk. Without the option no candidate is barred.
+TEST(Episode, AHeadingRewoundOutOfIsBarredFromTheStateItLeft) {
+  VALERANT_REQUIRE_OPENARENA();
+  auto run = [](bool ban) {
+    Config config = smallConfig(10);
+    config.dead_pocket.max_rewinds = 25;
+    config.dead_pocket.ban_rewound_headings = ban;
+    auto map = quake3::loadQuake3Map("oa_dm1", config.world.patch_level);
+    quake3::Quake3World world(map, config);
+    LocalBranchPipeline pipeline(world.intrinsics(), config);
+    ScriptedSelector script({"uw", "jq", "jq", "jq", "jq"});
+    Episode episode(world, pipeline, script, config);
+    std::vector<StepRecord> records;
+    for (; script.step < script.script.size(); ++script.step) records.push_back(episode.step());
+    EXPECT_TRUE(records[3].rewind);
+    EXPECT_EQ(records[3].discarded_steps, 4);
+    return records;
+  };
+  auto heading = [](const CandidateRecord& c) {
+    const Eigen::Vector3d walk = c.centres.back() - c.centres.front();
+    return std::atan2(walk.y(), walk.x()) * 180.0 / M_PI;
+  };
+  const std::vector<StepRecord> banned = run(true), paper = run(false);
+  const CandidateRecord& rewound = banned[0].candidates[banned[0].chosen];
+  ASSERT_EQ(rewound.verdict.candidate, "uw");
+  int barred = 0, free_translations = 0;
+  for (const CandidateRecord& c : banned.back().candidates) {  // judged from the restored state
+    const std::string& name = c.verdict.candidate;
+    if (c.verdict.rotation_only) {
+      EXPECT_FALSE(c.verdict.rewound_before) << name;
+      continue;
+    }
+    const double off = std::abs(std::remainder(heading(c) - heading(rewound), 360.0));
+    if (std::abs(off - 11.25) < 1) continue;  // too near the bound for the XY plane to stand in for the grid's floor
+    EXPECT_EQ(c.verdict.rewound_before, off < 11.25) << name << " heads " << off << " degrees off";
+    (c.verdict.rewound_before ? barred : free_translations)++;
+  }
+  EXPECT_TRUE(banned.back().candidates[0].verdict.rewound_before);  // uw
+  EXPECT_GE(free_translations, 2);                                  // jw, lw
+  EXPECT_GE(barred, 1);
+  for (const CandidateRecord& c : paper.back().candidates) EXPECT_FALSE(c.verdict.rewound_before) << c.verdict.candidate;
 }

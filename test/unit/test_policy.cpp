@@ -128,6 +128,19 @@ TEST(Policy, ATurnBackIsChosenOnlyWhenNothingElseIsAdmissible) {
   EXPECT_EQ(v[1].reason, "");
 }
 
+// [ours] dead_pocket.ban_rewound_headings: a translation heading into a pocket rewound
+// from here is inadmissible, with its reason; the best of the others is chosen.
+TEST(Policy, AHeadingRewoundOutOfIsInadmissible) {
+  PolicyConfig config;
+  std::vector<BranchVerdict> v(2);
+  v[0].candidate = "uw", v[0].coverage = 0.9, v[0].rewound_before = true;
+  v[1].candidate = "jw", v[1].coverage = 0.2;
+  EXPECT_EQ(selectBranch(v, config), 1);
+  EXPECT_FALSE(v[0].admissible);
+  EXPECT_EQ(v[0].reason, "heads into a pocket rewound from here");
+  EXPECT_FALSE(v[0].predictsCollision());  // a memory of the rewinds, not a collision
+}
+
 // The verdicts scored as predicted collisions: either test, a turn held back after a
 // contact, or a translation ending in contact; a lost track, the failed region or a short action's unclear end are not.
 TEST(Policy, PredictedCollisionsAreTheTestsAndTurnsInContact) {

@@ -222,6 +222,11 @@ struct DeadPocketConfig {
   // same choices would enter again) goes to the held anchor before instead, and so on
   // (rewind_controller.h). false = the paper: the most recent anchor.
   bool reach_past_known_pocket = false;
+  // [ours] A translation from a state a rewind went back to, heading within a quarter of
+  // jw / lw's turn of a walk that led from that state into the pocket, is inadmissible
+  // (rewound_headings.h): a walk that added no cell to F would otherwise be chosen again.
+  // false = the paper: F alone bars the way back in.
+  bool ban_rewound_headings = false;
 };
 
 struct MapConfig {

@@ -50,6 +50,9 @@ struct BranchVerdict {
   // [ours] A turn in place that undoes the last committed step's turn in place
   // (policy.no_turn_back; turn_back.h): ranked below every other admissible candidate.
   bool turns_back = false;
+  // [ours] A translation heading, from a state a rewind went back to, where a walk that led
+  // into the pocket went (dead_pocket.ban_rewound_headings; rewound_headings.h).
+  bool rewound_before = false;
   double score = 0;
   bool admissible = false;
   std::string reason;  // "" when admissible

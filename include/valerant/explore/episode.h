@@ -18,6 +18,9 @@
 // through its back faces), and eq. 6 exempts the turns (docs/inside_brush.md). With
 // collision.turn_start_points, likewise while that many committed points stand inside
 // the body cylinder at the turn's start (docs/pockets.md).
+// [ours] With dead_pocket.ban_rewound_headings, a translation from a state a rewind went
+// back to is inadmissible where it heads as a walk that led from there into the pocket
+// did (rewound_headings.h).
 // The same step code runs with in-process components (valerant_explore) and with the
 // ROS graph's proxies (the explorer node): one code path, the same decisions.
 #include <atomic>
@@ -34,6 +37,7 @@
 #include "valerant/explore/failed_region_memory.h"
 #include "valerant/explore/loop_closure.h"
 #include "valerant/explore/rewind_controller.h"
+#include "valerant/explore/rewound_headings.h"
 #include "valerant/geometry/coverage_grid.h"
 #include "valerant/map/map_fusion.h"
 #include "valerant/slam/slam.h"
@@ -178,6 +182,9 @@ class Episode {
   MapFusion map_;
   FailedRegionMemory failed_;
   RewindController rewinder_;
+  // [ours] Walks rewound out of, by the state they left (dead_pocket.ban_rewound_headings).
+  // Knowledge gained across rewinds, so no checkpoint restores it.
+  RewoundHeadings rewound_;
   bool stuck_ = false;
   std::map<uint64_t, Saved> saved_;
   std::vector<Eigen::Isometry3d> trajectory_;

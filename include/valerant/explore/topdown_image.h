@@ -1,8 +1,9 @@
 #pragma once
 // The map seen from above on the anchor floor plane: floor points in their colour,
 // body-level obstacles dark red, failed cells shaded red, every step's candidate
-// branches (green admissible, red collision, orange entering F, grey lost), the
-// committed trajectory in yellow and the start in blue. Cropped to what is drawn.
+// branches (green admissible, red collision, orange entering F or heading into a pocket
+// rewound from, grey lost), the committed trajectory in yellow and the start in blue.
+// Cropped to what is drawn.
 #include <opencv2/core.hpp>
 #include <vector>
 
