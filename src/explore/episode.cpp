@@ -24,6 +24,9 @@ std::vector<Eigen::Vector3d> centresOf(const Eigen::Vector3d& start, const std::
   return centres;
 }
 
+// A candidate's walk: its last camera centre less its first (centresOf).
+Eigen::Vector3d walkOf(const std::vector<Eigen::Vector3d>& centres) { return centres.back() - centres.front(); }
+
 }  // namespace
 
 Episode::Episode(WorldModel& world, const Config& config)
@@ -263,7 +266,7 @@ void Episode::judge(const std::vector<std::string>& names, const std::vector<std
                    turnsBack(*last_turn_deg_, makeActionSequence(v.candidate, config_).totalYawDeg(),
                              config_.rollout.turn_forward_deg / 2);
     v.rewound_before = config_.dead_pocket.ban_rewound_headings && !v.rotation_only &&
-                       rewound_.barred(committed_steps_, out.centres.back().back() - out.centres.back().front(), *grid_);
+                       rewound_.barred(committed_steps_, walkOf(out.centres.back()), *grid_);
     Cell end_cell{-1, -1};
     grid_->cellOf(out.centres.back().back(), end_cell);
     v.goal = goal.goalTerm(start_cell, end_cell);
@@ -416,12 +419,12 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
     loop_closure_->restoreInto(map_, trajectory_);
   }
   failed_.add(decision.failed_cells);
-  // The step that started from the anchor committed the walk into the pocket.
-  const auto first = std::find_if(history_.begin(), history_.end(),
-                                  [&](const StepRecord& r) { return r.checkpoint == decision.checkpoint; });
-  if (first != history_.end() && first->chosen >= 0) {
-    const std::vector<Eigen::Vector3d>& walk = first->candidates[first->chosen].centres;
-    rewound_.rewoundTo(committed_steps_, walk.back() - walk.front());
+  if (config_.dead_pocket.ban_rewound_headings) {
+    // The step that started from the anchor committed the walk into the pocket.
+    const auto first = std::find_if(history_.begin(), history_.end(),
+                                    [&](const StepRecord& r) { return r.checkpoint == decision.checkpoint; });
+    if (first != history_.end() && first->chosen >= 0)
+      rewound_.rewoundTo(committed_steps_, walkOf(first->candidates[first->chosen].centres));
   }
   if (config_.dead_pocket.free_way_back) {  // [ours] the way the agent came in stays a way out
     std::set<Cell> kept;

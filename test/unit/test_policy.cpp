@@ -2,6 +2,7 @@
 // on hand-built grids and step sequences.
 #include <gtest/gtest.h>
 
+#include "unit_grid.h"
 #include "valerant/explore/failed_region_memory.h"
 #include "valerant/explore/policy.h"
 #include "valerant/explore/rewind_controller.h"
@@ -14,17 +15,7 @@ using namespace valerant;
 
 namespace {
 
-// Floor z = 0, camera 1 above at the origin, looking along +X. With d_fwd = 8 (in
-// eye heights) and 8 cells per d_fwd, every cell is exactly 1 x 1 and the anchor sits
-// at the centre of cell (64, 64); cell (64 + i, 64 + j) covers x in [i-.5, i+.5),
-// y in [j-.5, j+.5) (v = n x u = +Y).
-CoverageGrid unitGrid() {
-  FloorPlane anchor;
-  anchor.q = {0, 0, 0};
-  anchor.n = {0, 0, 1};
-  anchor.c = {0, 0, 1};
-  return CoverageGrid(PolicyConfig{}, anchor, Eigen::Vector3d::UnitX(), 8.0);
-}
+using test::unitGrid;  // the anchor sits at the centre of cell (64, 64)
 
 std::vector<Eigen::Vector3d> line(double x0, double y0, double x1, double y1, int n) {
   std::vector<Eigen::Vector3d> c;

@@ -5,19 +5,14 @@
 
 #include <cmath>
 
+#include "unit_grid.h"
 #include "valerant/explore/rewound_headings.h"
 
 using namespace valerant;
 
 namespace {
 
-CoverageGrid flatGrid() {
-  FloorPlane anchor;
-  anchor.q = {0, 0, 0};
-  anchor.n = {0, 0, 1};
-  anchor.c = {0, 0, 1};
-  return CoverageGrid(PolicyConfig{}, anchor, Eigen::Vector3d::UnitX(), 8.0);
-}
+using test::unitGrid;
 
 Eigen::Vector3d walkAt(double deg, double length = 2.0) {
   const double a = deg * M_PI / 180.0;
@@ -27,7 +22,7 @@ Eigen::Vector3d walkAt(double deg, double length = 2.0) {
 }  // namespace
 
 TEST(RewoundHeadings, BarsOnlyHeadingsWithinTheToleranceFromTheSameState) {
-  const CoverageGrid grid = flatGrid();
+  const CoverageGrid grid = unitGrid();
   RewoundHeadings rewound(11.25);
   rewound.rewoundTo(3, walkAt(0));                         // along +X from the state after 3 steps
   EXPECT_TRUE(rewound.barred(3, walkAt(10, 8.0), grid));   // 10 degrees off, longer: the same way
@@ -44,7 +39,7 @@ TEST(RewoundHeadings, BarsOnlyHeadingsWithinTheToleranceFromTheSameState) {
 }
 
 TEST(RewoundHeadings, HeadingsWrapAroundHalfATurn) {
-  const CoverageGrid grid = flatGrid();
+  const CoverageGrid grid = unitGrid();
   RewoundHeadings rewound(11.25);
   rewound.rewoundTo(0, walkAt(175));
   EXPECT_TRUE(rewound.barred(0, walkAt(-175), grid));  // 10 degrees apart across +-180
@@ -52,7 +47,7 @@ TEST(RewoundHeadings, HeadingsWrapAroundHalfATurn) {
 }
 
 TEST(RewoundHeadings, ARewindFurtherBackForgetsTheStatesItDiscards) {
-  const CoverageGrid grid = flatGrid();
+  const CoverageGrid grid = unitGrid();
   RewoundHeadings rewound(11.25);
   rewound.rewoundTo(5, walkAt(0));
   rewound.rewoundTo(3, walkAt(45));
@@ -66,7 +61,7 @@ TEST(RewoundHeadings, ARewindFurtherBackForgetsTheStatesItDiscards) {
 }
 
 TEST(RewoundHeadings, AWalkWithoutLengthHasNoHeading) {
-  const CoverageGrid grid = flatGrid();
+  const CoverageGrid grid = unitGrid();
   RewoundHeadings rewound(11.25);
   rewound.rewoundTo(2, Eigen::Vector3d::Zero());
   EXPECT_EQ(rewound.walks(), 0u);

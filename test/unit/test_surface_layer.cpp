@@ -3,6 +3,7 @@
 // whole-level goal climbing a staircase on a grid that uses it.
 #include <gtest/gtest.h>
 
+#include "unit_grid.h"
 #include "valerant/geometry/coverage_grid.h"
 #include "valerant/geometry/frontier_distance.h"
 #include "valerant/geometry/surface_layer.h"
@@ -17,16 +18,7 @@ void addPoints(SurfaceLayer& layer, size_t cell, std::initializer_list<double> h
     for (int i = 0; i < 3; ++i) layer.addPoint(cell, h);
 }
 
-// The anchor floor z = 0 with the eye at z = 1: unit eye heights, and with
-// d_fwd_normalised 8 over cells_per_d_fwd 8, unit cells; cell (64 + x, 64 + y) holds
-// the floor point (x, y).
-FloorPlane unitAnchor() {
-  FloorPlane anchor;
-  anchor.q = {0, 0, 0};
-  anchor.n = {0, 0, 1};
-  anchor.c = {0, 0, 1};
-  return anchor;
-}
+using test::unitAnchor;  // cell (64 + x, 64 + y) holds the floor point (x, y)
 
 PolicyConfig surfaceConfig() {
   PolicyConfig config;

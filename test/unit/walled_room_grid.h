@@ -11,18 +11,14 @@
 //   y=-1   O . . . . . O      A: the agent's cell (visited)
 //   y=-2   O O O O O O O
 //        x=-1 0 1 2 3 4 5
-#include "valerant/geometry/coverage_grid.h"
+#include "unit_grid.h"
 
 namespace valerant::test {
 
 inline Cell roomCell(int x, int y) { return {64 + x, 64 + y}; }
 
 inline CoverageGrid walledRoomGrid() {
-  FloorPlane anchor;
-  anchor.q = {0, 0, 0};
-  anchor.n = {0, 0, 1};
-  anchor.c = {0, 0, 1};
-  CoverageGrid g(PolicyConfig{}, anchor, Eigen::Vector3d::UnitX(), 8.0);
+  CoverageGrid g = unitGrid();
   for (int x = 0; x <= 4; ++x)
     for (int y = -1; y <= 1; ++y) g.markObservedFloor({double(x), double(y), 0});
   auto wall = [&](int x, int y) {
