@@ -343,6 +343,7 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.boolean("free_way_back", d.free_way_back);
   s.boolean("reach_past_known_pocket", d.reach_past_known_pocket);
   s.boolean("ban_rewound_headings", d.ban_rewound_headings);
+  s.boolean("cross_failed", d.cross_failed);
   s.finish();
 }
 

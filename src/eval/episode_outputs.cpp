@@ -218,7 +218,8 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   // Where the whole-level goal can lead from where the agent stopped (goal_map_image.h).
   Cell agent{-1, -1};
   if (!episode.trajectory().empty()) episode.grid().cellOf(episode.trajectory().back().translation(), agent);
-  cv::Mat goal_map = drawGoalMap(episode.grid(), episode.failed(), agent, kTopdownPixelsPerCell);
+  cv::Mat goal_map =
+      drawGoalMap(episode.grid(), episode.goalFrom(agent), episode.failed(), agent, kTopdownPixelsPerCell);
   cv::cvtColor(goal_map, goal_map, cv::COLOR_RGB2BGR);
   writeImageAtomically(out + "/goal_map.png", goal_map);
   // The player's view at the end, for viewers of the run (run_publisher's camera image).

@@ -244,7 +244,7 @@ void Episode::judge(const std::vector<std::string>& names, const std::vector<std
   const Eigen::Vector3d start_centre = trajectory_.back().translation();
   const auto t_goal = std::chrono::steady_clock::now();
   const std::set<Cell> blocked = blockedFrom(start_cell);
-  const FrontierDistance goal(*grid_, blocked);
+  const FrontierDistance goal = goalFrom(start_cell);
   record.seconds.policy += secondsSince(t_goal);
   for (auto& f : pending) {
     out.results.push_back(f.get());
@@ -258,7 +258,10 @@ void Episode::judge(const std::vector<std::string>& names, const std::vector<std
     v.c_front = terms.c_front;
     v.coverage = terms.coverage;
     v.progress = terms.progress;
-    v.enters_failed = failed_.enters(terms.cells, start_cell, v.rotation_only);
+    Cell end_cell{-1, -1};
+    grid_->cellOf(out.centres.back().back(), end_cell);
+    v.enters_failed = config_.dead_pocket.cross_failed ? failed_.endsIn(end_cell, start_cell, v.rotation_only)
+                                                       : failed_.enters(terms.cells, start_cell, v.rotation_only);
     const int contact = config_.collision.turn_contact_points, start = config_.collision.turn_start_points;
     v.turn_in_contact = v.rotation_only && ((contact > 0 && contact_points_ >= contact) ||
                                             (start > 0 && v.start_occupied >= start));
@@ -267,8 +270,6 @@ void Episode::judge(const std::vector<std::string>& names, const std::vector<std
                              config_.rollout.turn_forward_deg / 2);
     v.rewound_before = config_.dead_pocket.ban_rewound_headings && !v.rotation_only &&
                        rewound_.barred(committed_steps_, walkOf(out.centres.back()), *grid_);
-    Cell end_cell{-1, -1};
-    grid_->cellOf(out.centres.back().back(), end_cell);
     v.goal = goal.goalTerm(start_cell, end_cell);
     v.opening = v.rotation_only && !result.poses.empty()
                     ? opening(*grid_, blocked, start_cell, floorAngle(*grid_, result.poses.back().linear().col(2)))
@@ -284,7 +285,7 @@ void Episode::recordGoal(const Cell& start, StepRecord& record) const {
     const double d = goal.at(start);
     return d == FrontierDistance::kUnreachable ? -1.0 : d;
   };
-  const FrontierDistance goal(*grid_, blockedFrom(start));
+  const FrontierDistance goal = goalFrom(start);
   record.goal_frontiers = goal.goalFrontierCells();
   record.goal_distance = distance(goal);
   record.goal_distance_without_failed = failed_.cells().empty() ? record.goal_distance
@@ -293,9 +294,15 @@ void Episode::recordGoal(const Cell& start, StepRecord& record) const {
 }
 
 std::set<Cell> Episode::blockedFrom(const Cell& start) const {
+  if (config_.dead_pocket.cross_failed) return {};
   std::set<Cell> blocked = failed_.cells();
   blocked.erase(start);  // F never holds the agent in place (failed_region_memory.h)
   return blocked;
+}
+
+FrontierDistance Episode::goalFrom(const Cell& start) const {
+  if (config_.dead_pocket.cross_failed) return FrontierDistance(*grid_, {}, failed_.cells());
+  return FrontierDistance(*grid_, blockedFrom(start));
 }
 
 std::optional<double> Episode::openTurnDeg() const {
@@ -307,7 +314,7 @@ std::optional<double> Episode::openTurnDeg() const {
   // uw heads within half of jw / lw's turn already: a smaller turn is no new direction.
   const double min_turn = config_.rollout.turn_forward_deg / 2;
   // Toward the goal (frontier_distance.h) where it lies off the heading ...
-  const FrontierDistance goal(*grid_, blocked);
+  const FrontierDistance goal = goalFrom(here);
   if (const auto waypoint = goal.waypoint(here, grid_->cellsPerForwardAction())) {
     const double turn = turnDeg(heading, cellAngle(here, *waypoint));
     if (std::abs(turn) >= min_turn) return turn;

@@ -2,15 +2,10 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "valerant/geometry/frontier_distance.h"
-
 namespace valerant {
 
-cv::Mat drawGoalMap(const CoverageGrid& grid, const FailedRegionMemory& failed, const Cell& agent,
-                    int pixels_per_cell) {
-  std::set<Cell> blocked = failed.cells();
-  blocked.erase(agent);  // as the episode's goal: F never holds the agent in place
-  const FrontierDistance goal(grid, blocked);
+cv::Mat drawGoalMap(const CoverageGrid& grid, const FrontierDistance& goal, const FailedRegionMemory& failed,
+                    const Cell& agent, int pixels_per_cell) {
   const int n = grid.size(), side = n * pixels_per_cell;
   cv::Mat image(side, side, CV_8UC3, cv::Scalar(24, 24, 32));
   cv::Rect drawn;

@@ -7,8 +7,8 @@
 
 namespace valerant {
 
-FrontierDistance::FrontierDistance(const CoverageGrid& grid, std::set<Cell> blocked)
-    : grid_(grid), blocked_(std::move(blocked)) {
+FrontierDistance::FrontierDistance(const CoverageGrid& grid, std::set<Cell> blocked, std::set<Cell> no_goals)
+    : grid_(grid), blocked_(std::move(blocked)), no_goals_(std::move(no_goals)) {
   const int n = grid.size();
   distance_.assign(static_cast<size_t>(n) * n, kUnreachable);
   auto index = [n](const Cell& c) { return static_cast<size_t>(c.first) * n + c.second; };
@@ -45,7 +45,7 @@ bool FrontierDistance::passable(const Cell& from, const Cell& to) const {
 }
 
 bool FrontierDistance::isGoalFrontier(const Cell& c) const {
-  if (!grid_.seenWalkable(c) || blocked_.count(c)) return false;
+  if (!grid_.seenWalkable(c) || blocked_.count(c) || no_goals_.count(c)) return false;
   const Cell neighbours[] = {{c.first + 1, c.second}, {c.first - 1, c.second},
                              {c.first, c.second + 1}, {c.first, c.second - 1}};
   for (const Cell& n : neighbours)

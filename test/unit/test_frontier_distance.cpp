@@ -81,6 +81,21 @@ TEST(FrontierDistance, FailedRegionDetoursOrCutsOff) {
   EXPECT_FALSE(doorway_failed.isGoalFrontier(roomCell(0, 0)));
 }
 
+// [ours] dead_pocket.cross_failed: F is no goal but no wall either.
+TEST(FrontierDistance, FailedRegionCrossedHoldsNoGoal) {
+  const CoverageGrid g = test::walledRoomGrid();
+  // F across the room at x = 1, crossed: from (3, 0) three straight steps to the
+  // doorway's frontier, as without F, and a candidate toward it gains G = (3 - 1) / 8.
+  const FrontierDistance crossed(g, {}, {roomCell(1, -1), roomCell(1, 0), roomCell(1, 1)});
+  EXPECT_DOUBLE_EQ(crossed.at(roomCell(3, 0)), 3.0);
+  EXPECT_DOUBLE_EQ(crossed.goalTerm(roomCell(3, 0), roomCell(1, 0)), 0.25);
+  // The doorway's frontier in F is no goal: nothing is left to reach.
+  const FrontierDistance doorway_failed(g, {}, {roomCell(0, 0)});
+  EXPECT_FALSE(doorway_failed.isGoalFrontier(roomCell(0, 0)));
+  EXPECT_EQ(doorway_failed.goalFrontierCells(), 0);
+  EXPECT_EQ(doorway_failed.at(roomCell(3, 0)), FrontierDistance::kUnreachable);
+}
+
 TEST(FrontierDistance, WaypointFollowsThePathIntoTheUnknown) {
   const CoverageGrid g = test::walledRoomGrid();
   const FrontierDistance d(g, {});

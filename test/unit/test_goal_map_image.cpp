@@ -18,7 +18,7 @@ cv::Vec3b at(const cv::Mat& image, int x, int y) { return image.at<cv::Vec3b>(7 
 TEST(GoalMapImage, ColoursWhatTheGoalCanReach) {
   const CoverageGrid g = test::walledRoomGrid();
   FailedRegionMemory none;
-  const cv::Mat open = drawGoalMap(g, none, roomCell(3, 0), 1);
+  const cv::Mat open = drawGoalMap(g, FrontierDistance(g, {}), none, roomCell(3, 0), 1);
   ASSERT_EQ(open.rows, 11);
   ASSERT_EQ(open.cols, 9);
   EXPECT_EQ(at(open, 3, 0), cv::Vec3b(255, 255, 255));  // the agent
@@ -29,9 +29,13 @@ TEST(GoalMapImage, ColoursWhatTheGoalCanReach) {
   // F across the room at x = 1 cuts the agent's side off the frontier.
   FailedRegionMemory across;
   across.add({roomCell(1, -1), roomCell(1, 0), roomCell(1, 1)});
-  const cv::Mat cut = drawGoalMap(g, across, roomCell(3, 0), 1);
+  const cv::Mat cut = drawGoalMap(g, FrontierDistance(g, across.cells()), across, roomCell(3, 0), 1);
   EXPECT_EQ(at(cut, 1, 0), cv::Vec3b(200, 40, 40));
   EXPECT_EQ(at(cut, 2, 1), cv::Vec3b(110, 110, 110));  // no frontier reachable from here
   EXPECT_EQ(at(cut, 0, 1), cv::Vec3b(70, 150, 70));    // the doorway's side still reaches it
   EXPECT_EQ(at(cut, 0, 0), cv::Vec3b(60, 220, 230));
+  // With dead_pocket.cross_failed the goal's paths cross F: the agent's side is green again.
+  const cv::Mat crossed = drawGoalMap(g, FrontierDistance(g, {}, across.cells()), across, roomCell(3, 0), 1);
+  EXPECT_EQ(at(crossed, 1, 0), cv::Vec3b(200, 40, 40));
+  EXPECT_EQ(at(crossed, 2, 1), cv::Vec3b(70, 150, 70));
 }

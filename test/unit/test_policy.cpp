@@ -183,6 +183,17 @@ TEST(FailedRegionMemory, EnteringIsLeavingTheStartCellIntoF) {
   EXPECT_TRUE(f.enters({{64, 64}, {65, 64}}, {64, 64}, false));
 }
 
+// [ours] dead_pocket.cross_failed: only where a translation ends counts.
+TEST(FailedRegionMemory, EndingInFIsEndingOnTheDiscardedWalk) {
+  FailedRegionMemory f;
+  f.add({{65, 63}, {65, 64}, {65, 65}});               // a walk across x = 65
+  EXPECT_TRUE(f.enters({{64, 64}, {65, 64}, {66, 64}}, {64, 64}));  // crossing it enters F ...
+  EXPECT_FALSE(f.endsIn({66, 64}, {64, 64}));          // ... but ends beyond it
+  EXPECT_TRUE(f.endsIn({65, 64}, {64, 64}));           // stopping on it
+  EXPECT_FALSE(f.endsIn({65, 64}, {65, 64}));          // the start cell never holds the agent
+  EXPECT_FALSE(f.endsIn({65, 64}, {64, 64}, true));    // a turn's centre jitters; its body stays
+}
+
 // [ours] dead_pocket.free_way_back removes the kept path's cells: only those held count.
 TEST(FailedRegionMemory, RemovingCountsOnlyTheCellsItHeld) {
   FailedRegionMemory f;

@@ -227,6 +227,12 @@ struct DeadPocketConfig {
   // (rewound_headings.h): a walk that added no cell to F would otherwise be chosen again.
   // false = the paper: F alone bars the way back in.
   bool ban_rewound_headings = false;
+  // [ours] F bars a translation only where it ends (its last camera centre's cell), and
+  // the whole-level terms' paths and rays cross F, whose cells are no goal frontier: the
+  // cells a discarded segment walked are a line, which otherwise walls off all the space
+  // beyond it (docs/pockets.md). false = the paper: a candidate that enters F anywhere
+  // is inadmissible.
+  bool cross_failed = false;
 };
 
 struct MapConfig {

@@ -39,6 +39,7 @@
 #include "valerant/explore/rewind_controller.h"
 #include "valerant/explore/rewound_headings.h"
 #include "valerant/geometry/coverage_grid.h"
+#include "valerant/geometry/frontier_distance.h"
 #include "valerant/map/map_fusion.h"
 #include "valerant/slam/slam.h"
 #include "valerant/world/world_model.h"
@@ -98,6 +99,9 @@ class Episode {
   const MapFusion& map() const { return map_; }
   const CoverageGrid& grid() const { return *grid_; }
   const FailedRegionMemory& failed() const { return failed_; }
+  // The whole-level goal from `start`: F, less `start`, blocks its paths, or with
+  // dead_pocket.cross_failed holds no goal frontier.
+  FrontierDistance goalFrom(const Cell& start) const;
   const std::vector<Eigen::Isometry3d>& trajectory() const { return trajectory_; }  // committed frames
   // Ground truth of the committed frames; depth only every kCommittedDepthStride-th (kept_truth.h).
   const std::vector<FrameTruth>& truth() const { return truth_; }
@@ -138,7 +142,8 @@ class Episode {
   // The clean prefixes (clean_prefix.h) worth judging after the first choice: none
   // while one of the paper's translations is admissible.
   std::vector<std::string> cleanPrefixes(const Candidates& judged) const;
-  // The cells no path or ray of the whole-level terms may cross: F, less the start cell.
+  // The cells no path or ray of the whole-level terms may cross: F, less the start cell;
+  // none with dead_pocket.cross_failed.
   std::set<Cell> blockedFrom(const Cell& start) const;
   // The goal figures of a step starting in `start` (StepRecord::goal_*).
   void recordGoal(const Cell& start, StepRecord& record) const;

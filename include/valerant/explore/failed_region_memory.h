@@ -23,6 +23,12 @@ class FailedRegionMemory {
       if (c != start && contains(c)) return true;
     return false;
   }
+  // [ours] dead_pocket.cross_failed: only the candidate's end cell counts. The
+  // discarded segment's cells are a walked line; a candidate that crosses it does not
+  // re-enter the pocket, which lies where that line led, and one that ends on it does.
+  bool endsIn(const Cell& end, const Cell& start, bool rotation_only = false) const {
+    return !rotation_only && end != start && contains(end);
+  }
   // Removes `cells` where held; returns how many were.
   size_t remove(const std::set<Cell>& cells) {
     size_t n = 0;

@@ -4,12 +4,13 @@
 // nearest unexplored space the agent can walk to. On the coverage grid's layers
 // (coverage_grid.h: walkable, obstacle, unknown):
 //  - goal frontier: an observed floor cell, no obstacle (with the surface layer: a seen
-//    walkable surface), outside `blocked`, with an unknown 4-neighbour. A
+//    walkable surface), outside `blocked` and `no_goals`, with an unknown 4-neighbour. A
 //    floor cell beside a wall has the wall's obstacle cell as neighbour, not an unknown
 //    one: no frontier. (A visited cell never seen as floor is walkable but no frontier:
 //    the unseen space behind the spawn is no goal until it has been looked at.)
 //  - D(c): path distance in cells from c to the nearest goal frontier over walkable
-//    cells outside `blocked` (the failed-region memory F), 8-connected (steps 1 and
+//    cells outside `blocked` (the failed-region memory F; with dead_pocket.cross_failed
+//    F is in `no_goals` instead: paths cross it, none ends there), 8-connected (steps 1 and
 //    sqrt 2) where the grid lets the agent step (CoverageGrid::traversable: any walkable
 //    neighbour, or with the surface layer one rising at most max_cell_rise, or lower): a
 //    multi-source Dijkstra from every goal frontier over the steps reversed. Infinite
@@ -37,7 +38,7 @@ namespace valerant {
 class FrontierDistance {
  public:
   // `grid` must outlive it.
-  FrontierDistance(const CoverageGrid& grid, std::set<Cell> blocked);
+  FrontierDistance(const CoverageGrid& grid, std::set<Cell> blocked, std::set<Cell> no_goals = {});
 
   static constexpr double kUnreachable = std::numeric_limits<double>::infinity();
   bool isGoalFrontier(const Cell& c) const;
@@ -57,6 +58,7 @@ class FrontierDistance {
 
   const CoverageGrid& grid_;
   std::set<Cell> blocked_;
+  std::set<Cell> no_goals_;
   std::vector<double> distance_;  // row-major, grid.size()^2
   int goal_frontier_cells_ = 0;
 };
