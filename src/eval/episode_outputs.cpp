@@ -64,6 +64,7 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
   const CoverageCurve curve = coverageByCommittedStep(episode.history(), truth.observed_percent_by_step);
   int penetration_free_steps = 0;  // committed steps none of whose frames entered solid
   for (const auto& s : episode.history()) penetration_free_steps += s.chosen >= 0 && stepInSolidFrames(s) == 0;
+  const ForcedTurns forced = forcedTurns(episode.history());
   nlohmann::json events = nlohmann::json::array();
   for (const PenetrationEvent& e : penetrationEvents(episode.history()))
     events.push_back({{"step", e.step},
@@ -103,7 +104,9 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
           {"predicted_colliding", truth.predicted_colliding},
           {"false_rejections", truth.false_rejections},
           {"missed_collisions", truth.missed_collisions},
-          {"clean_blocked_by_failed_region", cleanTranslationsBlockedByFailedRegion(episode.history())}};
+          {"clean_blocked_by_failed_region", cleanTranslationsBlockedByFailedRegion(episode.history())},
+          {"turn_steps", forced.turns},
+          {"falsely_forced_turns", forced.falsely_forced}};
 }
 
 // Closures made (each with its numbers) and verified candidates rejected, counted by

@@ -106,7 +106,8 @@ const char* const kGroundTruthNumbers[] = {
     "observed_reachable_percent", "observed_reachable_m2", "penetration_free_steps", "penetrations",
     "discarded_penetrations",     "false_rejections",      "missed_collisions",      "predicted_colliding",
     "truly_colliding",            "ate_percent",           "accuracy_median_m",      "accuracy_p90_m",
-    "completeness_percent",       "clean_blocked_by_failed_region"};
+    "completeness_percent",       "clean_blocked_by_failed_region", "turn_steps",
+    "falsely_forced_turns"};
 
 // The mean of `curves` at every index up to the longest; a curve that ended keeps its
 // last value, so the mean is over every curve at every index and never drops because
@@ -211,7 +212,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     std::vector<std::vector<double>> curves, committed_curves, wall_curves;
     Mean observed_percent, observed_m2, per_clean_step, penetrations, outside_world, clip_only, discarded, rewinds, false_rejections, missed,
         ate, accuracy, completeness, wall, frames_per_second, committed_steps, per_step, left_spawn,
-        penetrations_per_step, final_streak, blocked_by_failed;
+        penetrations_per_step, final_streak, blocked_by_failed, falsely_forced;
     std::map<std::string, Mean> stages;
     // Verdicts of the runs that record both figures of a ratio.
     double predicted = 0, predicted_wrongly = 0, truly = 0, truly_missed = 0;
@@ -256,6 +257,8 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
       }
       final_streak.addField(j, "final_turn_streak");
       blocked_by_failed.addField(g, "clean_blocked_by_failed_region");
+      if (hasNumber(g, "turn_steps") && hasNumber(g, "falsely_forced_turns") && number(g, "turn_steps") > 0)
+        falsely_forced.add(100.0 * number(g, "falsely_forced_turns") / number(g, "turn_steps"));
       if (hasNumber(j, "committed_steps") && hasNumber(g, "observed_reachable_m2")) {
         const double steps = number(j, "committed_steps");
         per_step.add(steps > 0 ? number(g, "observed_reachable_m2") / steps : 0.0);
@@ -309,6 +312,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     s.penetrations_per_committed_step = penetrations_per_step.value();
     s.final_turn_streak = final_streak.value();
     s.clean_blocked_by_failed_region = blocked_by_failed.value();
+    s.falsely_forced_turn_percent = falsely_forced.value();
     for (const auto& [stage, seconds] : stages) s.stage_seconds[stage] = seconds.value();
     if (predicted > 0) s.verdict_precision = (predicted - predicted_wrongly) / predicted;
     if (truly > 0) s.verdict_recall = (truly - truly_missed) / truly;
@@ -327,7 +331,7 @@ const char* const kResultsCsvHeader =
     "map,spawn,config,ok,committed_steps,rewinds,first_translation_step,observed_reachable_percent,observed_reachable_m2,"
     "penetrations,penetrations_in_solid,penetrations_outside_world,penetrations_clip_only,discarded_penetrations,penetration_free_steps,false_rejections,missed_collisions,ate_percent,"
     "accuracy_median_m,accuracy_p90_m,completeness_percent,wall_seconds,frames_rendered,final_turn_streak,"
-    "clean_blocked_by_failed_region,error";
+    "clean_blocked_by_failed_region,turn_steps,falsely_forced_turns,error";
 
 // "map,spawn,config" of a results.csv row: what identifies its run.
 std::string runKey(const std::string& row) {
@@ -386,7 +390,8 @@ void writeResultsCsv(const std::string& path, const std::vector<EvalResult>& res
         {&g, "penetration_free_steps"}, {&g, "false_rejections"}, {&g, "missed_collisions"},
         {&g, "ate_percent"},           {&g, "accuracy_median_m"}, {&g, "accuracy_p90_m"},
         {&g, "completeness_percent"},  {&j, "wall_seconds"},      {&j, "frames_rendered"},
-        {&j, "final_turn_streak"},     {&g, "clean_blocked_by_failed_region"}};
+        {&j, "final_turn_streak"},     {&g, "clean_blocked_by_failed_region"}, {&g, "turn_steps"},
+        {&g, "falsely_forced_turns"}};
     out << r.run.map << ',' << r.run.spawn << ',' << r.run.config << ',' << r.ok;
     for (const auto& [source, key] : fields) {
       out << ',';
@@ -452,12 +457,14 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "budgets. The final turn streak counts the steps at the end of a run that only turned in place or "
         "stalled, after its last translation or rewind; the last column counts translations that only the "
         "failed-region memory F rejected although they stayed out of solid: together they show a run ending "
-        "trapped.\n\n"
+        "trapped. The last counts, of the steps that turned in place or stalled, those at which every translation "
+        "was rejected though one of them stayed out of solid: turns the tests forced on an open way.\n\n"
      << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | "
         "of them outside the world | of them in invisible clips | discarded penetrations | rewinds | false rejections | missed collisions | verdict precision | verdict recall | ATE % | accuracy median m | "
         "completeness % | s / run | frames/s | left the spawn within " << kSpawnDepartureSteps << " steps % | "
-        "penetrations / committed step | final turn streak (steps) | clean translations only F rejected |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "penetrations / committed step | final turn streak (steps) | clean translations only F rejected | "
+        "turns forced on an open way % |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : summaries) {
     md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << mean(s.observed_percent) << " | "
        << mean(s.observed_m2) << " | " << mean(s.observed_m2_per_clean_step, 2) << " | " << mean(s.penetrations)
@@ -468,7 +475,7 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
        << " | " << mean(s.completeness_percent) << " | " << mean(s.wall_seconds) << " | "
        << mean(s.frames_per_second) << " | " << mean(s.left_spawn_percent, 0) << " | "
        << mean(s.penetrations_per_committed_step, 2) << " | " << mean(s.final_turn_streak) << " | "
-       << mean(s.clean_blocked_by_failed_region) << " |\n";
+       << mean(s.clean_blocked_by_failed_region) << " | " << mean(s.falsely_forced_turn_percent) << " |\n";
   }
   md << "\nVerdict precision: of the candidates the tests rejected as colliding, the share whose player hull "
         "really enters solid; recall: of the candidates that really enter solid, the share rejected.\n\n"

@@ -28,6 +28,23 @@ int cleanTranslationsBlockedByFailedRegion(const std::vector<StepRecord>& histor
   return blocked;
 }
 
+ForcedTurns forcedTurns(const std::vector<StepRecord>& history) {
+  ForcedTurns forced;
+  for (const StepRecord& step : history) {
+    if (committedTranslation(step)) continue;
+    ++forced.turns;
+    bool admissible = false, open_way = false;
+    for (const CandidateRecord& c : step.candidates) {
+      if (c.verdict.rotation_only) continue;
+      admissible = admissible || c.verdict.admissible;
+      open_way = open_way || (!c.truth.empty() && std::none_of(c.truth.begin(), c.truth.end(),
+                                                               [](const FrameTruth& f) { return f.in_solid; }));
+    }
+    forced.falsely_forced += !admissible && open_way;
+  }
+  return forced;
+}
+
 GoalReach goalReach(const std::vector<StepRecord>& history) {
   GoalReach reach;
   for (const StepRecord& step : history) {

@@ -460,7 +460,7 @@ TEST(EvalReport, MalformedReportsAreFailedRowsWithTheirReason) {
   std::string line;
   std::getline(csv, line);  // header
   std::getline(csv, line);
-  EXPECT_EQ(line.substr(0, line.find('"')), "missing,0,full,0,,,,,,,,,,,,,,,,,,,,,,");  // blank, not 0
+  EXPECT_EQ(line.substr(0, line.find('"')), "missing,0,full,0,,,,,,,,,,,,,,,,,,,,,,,,");  // blank, not 0
 }
 
 TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
@@ -497,9 +497,9 @@ TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
   std::vector<std::string> lines;
   for (std::string line; std::getline(csv, line);) lines.push_back(line);
   ASSERT_EQ(lines.size(), 4u);
-  EXPECT_EQ(lines[1], "m,0,full,1,,,,,,,,,,,,,,,,,,,,,,\"\"");
-  EXPECT_EQ(lines[2], "m,1,full,1,,,,10,,,,,,,,,,,,,,,,,,\"\"");
-  EXPECT_EQ(lines[3], "m,2,full,0,,,,,,,,,,,,,,,,,,,,,,\"/o/report.json: field 'x\"\"y|z' is null\"");
+  EXPECT_EQ(lines[1], "m,0,full,1,,,,,,,,,,,,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[2], "m,1,full,1,,,,10,,,,,,,,,,,,,,,,,,,,\"\"");
+  EXPECT_EQ(lines[3], "m,2,full,0,,,,,,,,,,,,,,,,,,,,,,,,\"/o/report.json: field 'x\"\"y|z' is null\"");
   // A report of any shape that skipped readEvalResult still does not throw.
   EvalResult odd = bare;
   odd.report = nlohmann::json::array({1, 2});
@@ -556,7 +556,7 @@ TEST(EvalReport, RunsThatLeaveTheirSpawnWithinFiveSteps) {
   EXPECT_DOUBLE_EQ(s[0].left_spawn_percent, 50.0);
   const std::string md = markdownReport(s, results, "cmd", "");
   EXPECT_NE(md.find("| left the spawn within 5 steps % |"), std::string::npos);
-  EXPECT_NE(md.find("| - | 50 | - | - | - |\n"), std::string::npos) << md;  // frames/s unrecorded, the share, then unrecorded
+  EXPECT_NE(md.find("| - | 50 | - | - | - | - |\n"), std::string::npos) << md;  // frames/s unrecorded, the share, then unrecorded
   EXPECT_NE(md.find("| m | 1 | full | - | - | - | - | - | - | - | 0 | 5 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| m | 3 | full | - | - | - | - | - | - | - | 0 | none |"), std::string::npos);
   EXPECT_NE(md.find("| m | 4 | full | - | - | - | - | - | - | - | 0 | - |"), std::string::npos);
@@ -579,24 +579,37 @@ TEST(EvalReport, PenetrationsPerCommittedStepAndHowRunsEndTrapped) {
   const std::vector<EvalResult> results = {
       run(0, {{"committed_steps", 15},
               {"final_turn_streak", 140},
-              {"ground_truth", {{"penetrations", 30}, {"clean_blocked_by_failed_region", 655}}}}),
+              {"ground_truth",
+               {{"penetrations", 30},
+                {"clean_blocked_by_failed_region", 655},
+                {"turn_steps", 8},
+                {"falsely_forced_turns", 6}}}}),
       run(1, {{"committed_steps", 150},
               {"final_turn_streak", 0},
-              {"ground_truth", {{"penetrations", 0}, {"clean_blocked_by_failed_region", 1}}}}),
+              {"ground_truth",
+               {{"penetrations", 0},
+                {"clean_blocked_by_failed_region", 1},
+                {"turn_steps", 0},
+                {"falsely_forced_turns", 0}}}}),
       run(2, {{"ground_truth", {{"penetrations", 9}}}})};
   const auto s = summarise(results, {"full"});
   EXPECT_DOUBLE_EQ(s[0].penetrations_per_committed_step, 1.0);
   EXPECT_DOUBLE_EQ(s[0].final_turn_streak, 70.0);
   EXPECT_DOUBLE_EQ(s[0].clean_blocked_by_failed_region, 328.0);
+  // 6 of 8 turns forced on an open way (75 %); run 1 never turned and is not in the mean.
+  EXPECT_DOUBLE_EQ(s[0].falsely_forced_turn_percent, 75.0);
   const std::string md = markdownReport(s, results, "cmd", "");
-  EXPECT_NE(md.find("| penetrations / committed step | final turn streak (steps) | clean translations only F rejected |"),
+  EXPECT_NE(md.find("| penetrations / committed step | final turn streak (steps) | clean translations only F rejected | "
+                    "turns forced on an open way % |"),
             std::string::npos) << md;
-  EXPECT_NE(md.find("| 1.00 | 70.0 | 328.0 |\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 1.00 | 70.0 | 328.0 | 75.0 |\n"), std::string::npos) << md;
   EXPECT_NE(md.find("| - | 140 |\n"), std::string::npos) << md;  // run 0: first translation unrecorded, its streak
   EXPECT_NE(md.find("| m | 2 | full | - | - | - | 9 | - | - | - | - | - | - |\n"), std::string::npos) << md;
   const auto [header, row] = csvHeaderAndFirstRow(results, "valerant_trap_results.csv");
-  EXPECT_NE(header.find(",frames_rendered,final_turn_streak,clean_blocked_by_failed_region,error"), std::string::npos);
-  EXPECT_NE(row.find(",140,655,\"\""), std::string::npos) << row;
+  EXPECT_NE(header.find(",frames_rendered,final_turn_streak,clean_blocked_by_failed_region,turn_steps,"
+                        "falsely_forced_turns,error"),
+            std::string::npos);
+  EXPECT_NE(row.find(",140,655,8,6,\"\""), std::string::npos) << row;
   // A streak that is not a number names the field.
   EXPECT_NE(reportProblem({{"final_turn_streak", "long"}, {"ground_truth", nlohmann::json::object()}}, "r.json")
                 .find("final_turn_streak"),

@@ -69,6 +69,37 @@ TEST(TrapFigures, CleanTranslationsThatOnlyTheFailedRegionRejected) {
   EXPECT_EQ(cleanTranslationsBlockedByFailedRegion({}), 0);
 }
 
+TEST(TrapFigures, TurnsForcedOnAnOpenWay) {
+  // A step whose candidates are `candidates`, committing candidate `chosen` (-1: stall).
+  auto decided = [](std::vector<CandidateRecord> candidates, int chosen) {
+    StepRecord s;
+    s.candidates = std::move(candidates);
+    s.chosen = chosen;
+    return s;
+  };
+  const CandidateRecord turn = candidate(true, "", 4);
+  const std::vector<StepRecord> history = {
+      // 1. Turned although a translation was admissible: chosen, not forced.
+      decided({turn, candidate(false, "", 4)}, 0),
+      // 2. Every translation rejected, one of them clean by truth: forced on an open way.
+      decided({turn, candidate(false, "point-cloud collision", 4), candidate(false, "enters failed region", 4, {3})},
+              0),
+      // 3. Every translation rejected and each one enters solid: a wall, rightly forced.
+      decided({turn, candidate(false, "point-cloud collision", 4, {2, 3})}, 0),
+      // 4. A stall with a clean translation rejected: forced on an open way.
+      decided({turn, candidate(false, "short action not clear to its end", 57)}, -1),
+      // 5. Committed a translation: no turn.
+      decided({turn, candidate(false, "", 4)}, 1),
+      // 6. Rejected translations without truth, and a turn with no translation judged.
+      decided({turn, candidate(false, "point-cloud collision", 0)}, 0),
+      decided({turn}, 0),
+  };
+  const ForcedTurns forced = forcedTurns(history);
+  EXPECT_EQ(forced.turns, 6);  // steps 1-4, 6 and 7
+  EXPECT_EQ(forced.falsely_forced, 2);  // steps 2 and 4
+  EXPECT_EQ(forcedTurns({}).turns, 0);
+}
+
 TEST(TrapFigures, StepsWithNoGoalReachableAndThoseFAloneCutOff) {
   auto goal = [](double with_f, double without_f) {
     StepRecord s;

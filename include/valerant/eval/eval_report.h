@@ -55,6 +55,10 @@ struct ConfigSummary {
   // How runs end trapped (trap_figures.h): steps turning in place after the last
   // translation or rewind, and clean translations that only F rejected.
   double final_turn_streak = -1, clean_blocked_by_failed_region = -1;
+  // Of the steps that turned in place or stalled, the share at which every translation was
+  // rejected though one stayed out of solid (trap_figures.h forcedTurns), in percent: a
+  // mean over the runs that turned at all.
+  double falsely_forced_turn_percent = -1;
   // Collision verdicts against ground truth ("this candidate would enter solid"), summed
   // over every verdict of every run before dividing (micro average); -1 when undefined.
   double verdict_precision = -1, verdict_recall = -1;

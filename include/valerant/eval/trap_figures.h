@@ -19,6 +19,18 @@ int finalTurnStreak(const std::vector<StepRecord>& history);
 // alone walled off. Candidates without truth are not counted.
 int cleanTranslationsBlockedByFailedRegion(const std::vector<StepRecord>& history);
 
+// Turns the tests forced on an open way: of the steps that committed a turn in place or
+// stalled (`turns`), those at which no translation was admissible while at least one
+// judged translation stayed out of solid by the engine's truth (`falsely_forced`). With
+// exact depth a turn is chosen because every way on collides; in the 60-step visual runs
+// of docs/pockets.md nine turns in ten were forced on an open way. Steps without any
+// judged translation, or whose translations carry no truth, are not falsely forced.
+struct ForcedTurns {
+  int turns = 0;
+  int falsely_forced = 0;
+};
+ForcedTurns forcedTurns(const std::vector<StepRecord>& history);
+
 // Steps that began with no goal frontier reachable (StepRecord::goal_distance), and of
 // them those F alone cut off (one is reachable when F is ignored): then the frontier goal
 // gives every candidate G = 0 and the paper's local terms decide alone.
