@@ -1,7 +1,7 @@
 #include "valerant/eval/episode_truth.h"
 
-
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -31,6 +31,11 @@ PenetrationCounts countPenetrations(const std::vector<FrameTruth>& truth) {
     c.clip_only += f.hull_in_clip_only && !f.outside_world;
   }
   return c;
+}
+
+bool staysOutOfSolid(const CandidateRecord& candidate) {
+  return !candidate.truth.empty() &&
+         std::none_of(candidate.truth.begin(), candidate.truth.end(), [](const FrameTruth& f) { return f.in_solid; });
 }
 
 int stepInSolidFrames(const StepRecord& step) {
@@ -142,8 +147,7 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   for (const auto& step : episode.history()) {
     for (const auto& c : step.candidates) {
       if (c.truth.empty()) continue;
-      bool enters_solid = false;
-      for (const auto& f : c.truth) enters_solid |= f.in_solid;
+      const bool enters_solid = !staysOutOfSolid(c);
       const bool predicted = c.verdict.predictsCollision();
       ++t.verdicts;
       t.truly_colliding += enters_solid;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "valerant/eval/episode_truth.h"
 #include "valerant/eval/spawn_departure.h"
 
 namespace valerant {
@@ -22,8 +23,8 @@ int cleanTranslationsBlockedByFailedRegion(const std::vector<StepRecord>& histor
       const BranchVerdict& v = c.verdict;
       // The reason lists every objection the policy had (selectBranch), so F alone is
       // the flag set and nothing else named.
-      if (v.rotation_only || !v.enters_failed || v.reason != "enters failed region" || c.truth.empty()) continue;
-      blocked += std::none_of(c.truth.begin(), c.truth.end(), [](const FrameTruth& f) { return f.in_solid; });
+      if (v.rotation_only || !v.enters_failed || v.reason != "enters failed region") continue;
+      blocked += staysOutOfSolid(c);
     }
   return blocked;
 }
@@ -37,8 +38,7 @@ ForcedTurns forcedTurns(const std::vector<StepRecord>& history) {
     for (const CandidateRecord& c : step.candidates) {
       if (c.verdict.rotation_only) continue;
       admissible = admissible || c.verdict.admissible;
-      open_way = open_way || (!c.truth.empty() && std::none_of(c.truth.begin(), c.truth.end(),
-                                                               [](const FrameTruth& f) { return f.in_solid; }));
+      open_way = open_way || staysOutOfSolid(c);
     }
     forced.falsely_forced += !admissible && open_way;
   }

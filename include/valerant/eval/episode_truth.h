@@ -71,6 +71,9 @@ PenetrationCounts countPenetrations(const std::vector<FrameTruth>& truth);
 // In-solid (penetrating) frames the step committed (0 for a stall).
 int stepInSolidFrames(const StepRecord& step);
 
+// The candidate has the engine's truth and none of its frames entered solid.
+bool staysOutOfSolid(const CandidateRecord& candidate);
+
 // A committed step that penetrated the world (the player hull inside solid, or its
 // centre outside the playable world), with what its collision tests saw: the figures
 // one needs to tell why the tests let it through.
