@@ -89,6 +89,21 @@ class Section {
     }
   }
 
+  // A list of distinct names, each one of `allowed`.
+  void choices(const char* key, std::vector<std::string>& field, const std::set<std::string>& allowed) {
+    const YAML::Node v = take(key);
+    if (!v.IsSequence()) fail(name(key), "expected a list such as [" + joined(allowed) + "], got '" + text(v) + "'");
+    std::vector<std::string> values;
+    for (const YAML::Node& item : v) {
+      if (!item.IsScalar() || !allowed.count(item.Scalar()))
+        fail(name(key), "'" + text(item) + "' is not one of: " + joined(allowed));
+      if (std::find(values.begin(), values.end(), item.Scalar()) != values.end())
+        fail(name(key), "'" + item.Scalar() + "' is named twice");
+      values.push_back(item.Scalar());
+    }
+    field = values;
+  }
+
   void string(const char* key, std::string& field) {
     const YAML::Node v = take(key);
     if (!v.IsScalar()) fail(name(key), "expected a string");
@@ -198,6 +213,7 @@ void readPolicy(Section s, PolicyConfig& p) {
   s.boolean("goal_move", p.goal_move);
   s.number("opening_weight", p.opening_weight, 0.0, 1e6);
   s.boolean("no_turn_back", p.no_turn_back);
+  s.choices("yielding_objections", p.yielding_objections, kYieldableObjections);
   s.finish();
 }
 

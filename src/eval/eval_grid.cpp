@@ -39,7 +39,7 @@ const std::map<std::string, std::vector<std::string>>& configOverrides() {
       {"paper",
        {"policy.grid_cells=128", "policy.goal_weight=0", "policy.short_translation_frames=[]",
         "policy.short_turn_frames=[]", "policy.open_turn=false", "policy.opening_weight=0", "policy.goal_move=false", "policy.max_cell_rise=0",
-        "policy.no_turn_back=false",
+        "policy.no_turn_back=false", "policy.yielding_objections=[]",
         "policy.max_progress=0",
         "collision.previous_steps=0", "collision.prefix_commits=false", "collision.step_height=0",
         "collision.body_radius=0.21", "slam.depth_prior=none", "dead_pocket.stagnant_steps=0",

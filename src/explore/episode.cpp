@@ -164,7 +164,7 @@ StepRecord Episode::step() {
     select();
   }
   for (size_t r = 0; r < rounds.size(); ++r) {  // [ours], docs/whole_level.md
-    if (movesOn(judged)) break;
+    if (movesOn(judged.verdicts)) break;
     std::vector<std::string> names;
     for (const std::string& name : rounds[r])
       if (std::find(judged.names.begin(), judged.names.end(), name) == judged.names.end()) names.push_back(name);
@@ -345,12 +345,6 @@ void Episode::holdToClearEnd(Candidates& judged, size_t first) {
   }
 }
 
-bool Episode::movesOn(const Candidates& judged) {
-  for (const BranchVerdict& v : judged.verdicts)
-    if (v.admissible && !v.rotation_only) return true;
-  return false;
-}
-
 std::vector<std::vector<std::string>> Episode::roomActionRounds() const {
   const PolicyConfig& p = config_.policy;
   std::vector<std::vector<std::string>> rounds;
@@ -369,7 +363,7 @@ std::vector<std::vector<std::string>> Episode::roomActionRounds() const {
 
 std::vector<std::string> Episode::cleanPrefixes(const Candidates& judged) const {
   if (!config_.collision.prefix_commits) return {};
-  if (movesOn(judged)) return {};  // the paper's own candidates move on
+  if (movesOn(judged.verdicts)) return {};  // the paper's own candidates move on
   std::vector<std::string> names;
   const auto& paper = candidateNames();
   for (size_t i = 0; i < judged.verdicts.size(); ++i) {

@@ -18,7 +18,7 @@ nlohmann::json toJson(const BranchVerdict& v) {
           {"rewound_before", v.rewound_before},
           {"body_counts", v.body_counts},   {"start_occupied", v.start_occupied}, {"see_through_points", v.see_through_points},
           {"score", v.score},               {"admissible", v.admissible},
-          {"reason", v.reason}};
+          {"yielded", v.yielded},           {"reason", v.reason}};
 }
 
 nlohmann::json toJson(const StageSeconds& s) {

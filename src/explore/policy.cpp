@@ -1,11 +1,42 @@
 #include "valerant/explore/policy.h"
 
+#include <algorithm>
 #include <random>
 #include <utility>
 
 namespace valerant {
 
 namespace {
+
+// One reason a candidate is inadmissible: its key (the verdict's field where it has one, as
+// policy.yielding_objections names it) and the text the reason lists.
+struct Objection {
+  const char* key;
+  const char* text;
+};
+
+std::vector<Objection> objectionsTo(const BranchVerdict& v, const PolicyConfig& config) {
+  std::vector<Objection> out;
+  if (v.slam_lost) out.push_back({"slam_lost", "slam lost"});
+  if (v.floor_unknown) out.push_back({"floor_unknown", "floor unknown"});
+  if (v.collision_pc) out.push_back({"collision_pc", "point-cloud collision"});
+  if (v.collision_depth) out.push_back({"collision_depth", "depth collision"});
+  if (v.turn_in_contact) out.push_back({"turn_in_contact", "turn in place while in contact"});
+  if (v.ends_in_contact) out.push_back({"ends_in_contact", "ends in contact"});
+  if (v.enters_failed) out.push_back({"enters_failed", "enters failed region"});
+  if (v.rewound_before) out.push_back({"rewound_before", "heads into a pocket rewound from here"});
+  if (v.short_unclear) out.push_back({"short_unclear", "short action not clear to its end"});
+  if (config.max_progress > 0 && !(v.progress <= config.max_progress))
+    out.push_back({"implausible_motion", "implausible motion"});
+  return out;
+}
+
+bool allYield(const std::vector<Objection>& objections, const PolicyConfig& config) {
+  const std::vector<std::string>& yielding = config.yielding_objections;
+  return std::all_of(objections.begin(), objections.end(), [&yielding](const Objection& o) {
+    return std::find(yielding.begin(), yielding.end(), o.key) != yielding.end();
+  });
+}
 
 // First admissible candidate with the largest key (earlier candidates win ties).
 template <typename Key>
@@ -18,26 +49,33 @@ int argmaxBy(const std::vector<BranchVerdict>& verdicts, Key key) {
 
 }  // namespace
 
+bool movesOn(const std::vector<BranchVerdict>& verdicts) {
+  return std::any_of(verdicts.begin(), verdicts.end(),
+                     [](const BranchVerdict& v) { return v.admissible && !v.rotation_only && !v.yielded; });
+}
+
 int selectBranch(std::vector<BranchVerdict>& verdicts, const PolicyConfig& config, uint64_t step_seed) {
+  std::vector<bool> may_yield(verdicts.size(), false);
   for (size_t i = 0; i < verdicts.size(); ++i) {
     BranchVerdict& v = verdicts[i];
     v.score = config.lambda_cov * v.coverage + config.lambda_prog * v.progress + config.goal_weight * v.goal +
               config.opening_weight * v.opening;
-    std::string reason;
-    if (v.slam_lost) reason += "slam lost;";
-    if (v.floor_unknown) reason += "floor unknown;";
-    if (v.collision_pc) reason += "point-cloud collision;";
-    if (v.collision_depth) reason += "depth collision;";
-    if (v.turn_in_contact) reason += "turn in place while in contact;";
-    if (v.ends_in_contact) reason += "ends in contact;";
-    if (v.enters_failed) reason += "enters failed region;";
-    if (v.rewound_before) reason += "heads into a pocket rewound from here;";
-    if (v.short_unclear) reason += "short action not clear to its end;";
-    if (config.max_progress > 0 && !(v.progress <= config.max_progress)) reason += "implausible motion;";
-    if (!reason.empty()) reason.pop_back();
-    v.reason = reason;
-    v.admissible = reason.empty();
+    const std::vector<Objection> objections = objectionsTo(v, config);
+    v.reason.clear();
+    for (const Objection& o : objections) v.reason += (v.reason.empty() ? "" : ";") + std::string(o.text);
+    v.admissible = objections.empty();
+    v.yielded = false;
+    may_yield[i] = !v.admissible && !v.rotation_only && allYield(objections, config);
   }
+  // [ours] No way on (policy.yielding_objections, docs/pockets.md "Objections that give
+  // way"): a translation whose every objection may give way is admitted. Its reason is
+  // cleared; its flags still say what gave way.
+  if (!movesOn(verdicts))
+    for (size_t i = 0; i < verdicts.size(); ++i)
+      if (may_yield[i]) {
+        verdicts[i].reason.clear();
+        verdicts[i].admissible = verdicts[i].yielded = true;
+      }
   if (config.kind == "random") {
     std::vector<int> admissible;
     for (size_t i = 0; i < verdicts.size(); ++i)

@@ -294,6 +294,7 @@ valerant::Verdict toMsg(const BranchVerdict& v, const std::vector<Eigen::Vector3
   msg.rewound_before = v.rewound_before;
   msg.score = v.score;
   msg.admissible = v.admissible;
+  msg.yielded = v.yielded;
   msg.reason = v.reason;
   for (const auto& c : centres) {
     geometry_msgs::Point p;
@@ -327,6 +328,7 @@ BranchVerdict fromMsg(const valerant::Verdict& msg) {
   v.rewound_before = msg.rewound_before;
   v.score = msg.score;
   v.admissible = msg.admissible;
+  v.yielded = msg.yielded;
   v.reason = msg.reason;
   return v;
 }

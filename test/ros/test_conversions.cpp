@@ -217,6 +217,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   v.rewound_before = true;
   v.score = 3.14159;
   v.admissible = false;
+  v.yielded = true;
   v.reason = "collision_pc";
   const valerant::Verdict msg = toMsg(v, {{1, 2, 3}, {4, 5, 6}});
   ASSERT_EQ(msg.centres.size(), 2u);
@@ -248,6 +249,7 @@ TEST(Conversions, VerdictRoundTripIsExact) {
   EXPECT_EQ(back.rewound_before, v.rewound_before);
   EXPECT_EQ(back.score, v.score);
   EXPECT_EQ(back.admissible, v.admissible);
+  EXPECT_EQ(back.yielded, v.yielded);
   EXPECT_EQ(back.reason, v.reason);
 }
 

@@ -343,7 +343,9 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
   doc.set("policy.short_translation_frames", "[32, 16]", "--set");
   doc.set("policy.short_turn_frames", "[]", "--set");
   doc.set("policy.goal_weight", "1.5", "--set");
+  doc.set("policy.yielding_objections", "[short_unclear, enters_failed]", "--set");
   const Config c = doc.parse();
+  EXPECT_EQ(c.policy.yielding_objections, (std::vector<std::string>{"short_unclear", "enters_failed"}));
   EXPECT_EQ(c.policy.short_translation_frames, (std::vector<int>{32, 16}));
   EXPECT_TRUE(c.policy.short_turn_frames.empty());
   EXPECT_DOUBLE_EQ(c.policy.goal_weight, 1.5);
@@ -367,6 +369,15 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
             "--set policy.max_cell_rise=-0.1: policy.max_cell_rise: value -0.1 outside [0, 100]");
   EXPECT_EQ(errorOfOverride("policy.surface_carving_ratio", "-1"),
             "--set policy.surface_carving_ratio=-1: policy.surface_carving_ratio: value -1 outside [0, 1e+06]");
+  EXPECT_EQ(errorOfOverride("policy.yielding_objections", "enters_failed"),
+            "--set policy.yielding_objections=enters_failed: policy.yielding_objections: expected a list such as "
+            "[enters_failed, short_unclear], got 'enters_failed'");
+  EXPECT_EQ(errorOfOverride("policy.yielding_objections", "[slam_lost]"),
+            "--set policy.yielding_objections=[slam_lost]: policy.yielding_objections: 'slam_lost' is not one of: "
+            "enters_failed, short_unclear");
+  EXPECT_EQ(errorOfOverride("policy.yielding_objections", "[short_unclear, short_unclear]"),
+            "--set policy.yielding_objections=[short_unclear, short_unclear]: policy.yielding_objections: "
+            "'short_unclear' is named twice");
   EXPECT_EQ(errorOfOverride("policy.goal_move", "1.5"),
             "--set policy.goal_move=1.5: policy.goal_move: expected true or false, got '1.5'");
   EXPECT_EQ(errorOfOverride("collision.see_through_frames", "-1"),
@@ -423,6 +434,7 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.policy.open_turn, built_in.open_turn);
   EXPECT_EQ(shipped.policy.opening_weight, built_in.opening_weight);
   EXPECT_EQ(shipped.policy.no_turn_back, built_in.no_turn_back);
+  EXPECT_EQ(shipped.policy.yielding_objections, built_in.yielding_objections);
   EXPECT_EQ(shipped.policy.goal_move, built_in.goal_move);
   EXPECT_EQ(shipped.policy.max_cell_rise, built_in.max_cell_rise);
   EXPECT_EQ(shipped.policy.surface_carving_ratio, built_in.surface_carving_ratio);

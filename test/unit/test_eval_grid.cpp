@@ -93,6 +93,8 @@ TEST(EvalGrid, EveryConfigurationIsOverridesTheLoaderAccepts) {
   EXPECT_EQ(paper_row.policy.open_turn, paper_file.policy.open_turn);
   EXPECT_EQ(paper_row.policy.opening_weight, paper_file.policy.opening_weight);
   EXPECT_EQ(paper_row.policy.no_turn_back, paper_file.policy.no_turn_back);
+  EXPECT_EQ(paper_row.policy.yielding_objections, paper_file.policy.yielding_objections);
+  EXPECT_TRUE(paper_file.policy.yielding_objections.empty());
   EXPECT_EQ(paper_row.policy.goal_move, paper_file.policy.goal_move);
   EXPECT_EQ(paper_row.policy.max_cell_rise, paper_file.policy.max_cell_rise);
   EXPECT_EQ(paper_row.policy.max_progress, paper_file.policy.max_progress);

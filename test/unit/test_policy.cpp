@@ -119,6 +119,45 @@ TEST(Policy, ATurnBackIsChosenOnlyWhenNothingElseIsAdmissible) {
   EXPECT_EQ(v[1].reason, "");
 }
 
+// [ours] policy.yielding_objections. Scores (lambda_cov 1, lambda_prog 5): jw 0.3 + 5 * 0.5
+// = 2.8 (in F), lw 0.1 + 5 * 0.6 = 3.1 (in F and short unclear), uw@32 5.0 (short unclear
+// and a point-cloud collision), jq 0.9 (a turn, admissible). No objection yields: jq.
+// F yields: jw, the only translation objected to by F alone (2.8 > 0.9). F and short
+// unclear yield: lw (3.1); uw@32's collision never yields. Once uw is admissible (0.2 +
+// 5 * 0.1 = 0.7) nothing yields and jq (0.9) wins again, with every reason back.
+TEST(Policy, ObjectionsYieldOnlyWhenNoTranslationIsAdmissible) {
+  PolicyConfig config;
+  std::vector<BranchVerdict> v(5);
+  const char* names[] = {"uw", "jw", "lw", "uw@32", "jq"};
+  for (int i = 0; i < 5; ++i) v[i].candidate = names[i];
+  v[0].collision_pc = true, v[0].coverage = 0.2, v[0].progress = 0.1;
+  v[1].enters_failed = true, v[1].coverage = 0.3, v[1].progress = 0.5;
+  v[2].enters_failed = v[2].short_unclear = true, v[2].coverage = 0.1, v[2].progress = 0.6;
+  v[3].short_unclear = v[3].collision_pc = true, v[3].progress = 1.0;
+  v[4].rotation_only = true, v[4].coverage = 0.9;
+  EXPECT_EQ(selectBranch(v, config), 4);
+  config.yielding_objections = {"enters_failed"};
+  EXPECT_EQ(selectBranch(v, config), 1);
+  EXPECT_TRUE(v[1].admissible && v[1].yielded);
+  EXPECT_EQ(v[1].reason, "");
+  EXPECT_TRUE(v[1].enters_failed);  // the flag still says what gave way
+  EXPECT_FALSE(movesOn(v));          // a later round may still offer a clear translation
+  EXPECT_FALSE(v[2].admissible);
+  EXPECT_EQ(v[2].reason, "enters failed region;short action not clear to its end");
+  config.yielding_objections = {"enters_failed", "short_unclear"};
+  EXPECT_EQ(selectBranch(v, config), 2);
+  EXPECT_NEAR(v[2].score, 3.1, 1e-12);
+  EXPECT_TRUE(v[1].yielded && v[2].yielded);
+  EXPECT_FALSE(v[3].admissible || v[3].yielded);
+  EXPECT_EQ(v[3].reason, "point-cloud collision;short action not clear to its end");
+  EXPECT_FALSE(v[4].yielded);
+  v[0].collision_pc = false;
+  EXPECT_EQ(selectBranch(v, config), 4);
+  EXPECT_TRUE(movesOn(v));
+  EXPECT_FALSE(v[1].admissible || v[1].yielded || v[2].admissible || v[2].yielded);
+  EXPECT_EQ(v[1].reason, "enters failed region");
+}
+
 // [ours] dead_pocket.ban_rewound_headings: a translation heading into a pocket rewound
 // from here is inadmissible, with its reason; the best of the others is chosen.
 TEST(Policy, AHeadingRewoundOutOfIsInadmissible) {

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -106,7 +107,16 @@ struct PolicyConfig {
   // A turn in place that undoes the last committed step's turn in place (turn_back.h) is
   // chosen only when nothing else is admissible.
   bool no_turn_back = false;
+  // When no translation is admissible, a translation whose only objections are listed here
+  // is admitted (policy.h; docs/pockets.md "Objections that give way"): of
+  // kYieldableObjections, the ones whose rejections are usually wrong.
+  std::vector<std::string> yielding_objections;
 };
+
+// The objections policy.yielding_objections may name, as BranchVerdict's fields: entering
+// the failed region F and a short action not clear to its end. The collision tests and a
+// SLAM loss never give way.
+inline const std::set<std::string> kYieldableObjections = {"enters_failed", "short_unclear"};
 
 struct FloorConfig {
   bool enabled = true;             // RF; off = one floor calibrated at the start

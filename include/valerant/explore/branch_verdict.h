@@ -55,6 +55,9 @@ struct BranchVerdict {
   bool rewound_before = false;
   double score = 0;
   bool admissible = false;
+  // [ours] Admitted although objected to: no translation was admissible and every
+  // objection is one policy.yielding_objections lets give way (policy.h).
+  bool yielded = false;
   std::string reason;  // "" when admissible
 
   // Rejected as colliding: the outcome scored against the engine's truth (verdict

@@ -147,8 +147,6 @@ class Episode {
   std::set<Cell> blockedFrom(const Cell& start) const;
   // The goal figures of a step starting in `start` (StepRecord::goal_*).
   void recordGoal(const Cell& start, StepRecord& record) const;
-  // An admissible translation was judged: the agent moves on.
-  static bool movesOn(const Candidates& judged);
   // [ours] Actions that fit the room (policy.short_translation_frames, short_turn_frames,
   // open_turn; docs/whole_level.md): rounds judged in order while no translation is
   // admissible: each short length's uw, jw, lw, then the short and open turns.

@@ -10,6 +10,8 @@
 // deterministic. No admissible candidate: a stall (returns -1). [ours] With
 // policy.no_turn_back, a turn in place that undoes the last committed one (turns_back,
 // turn_back.h) is chosen only when no other candidate is admissible.
+// [ours] With policy.yielding_objections, when no translation is admissible, a
+// translation whose only objections are listed there is admitted (`yielded`).
 //
 // Baselines (policy.kind) choose among the same admissible candidates:
 //   random   - uniformly, from a generator seeded by (seed, step);
@@ -22,6 +24,10 @@
 #include "valerant/explore/branch_verdict.h"
 
 namespace valerant {
+
+// A translation nothing objects to was judged: the agent moves on. A yielded one does
+// not count: it is the last resort, and a later round may still offer a clear one.
+bool movesOn(const std::vector<BranchVerdict>& verdicts);
 
 // Fills score, admissible and reason of every verdict; returns the chosen index or -1.
 // `step_seed` only feeds the random baseline.
