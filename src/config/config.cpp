@@ -246,7 +246,6 @@ void readCollision(Section s, CollisionConfig& c) {
   s.number("turn_start_points", c.turn_start_points, 0, 10000000);
   s.number("end_clearance", c.end_clearance, 0.0, 100.0);
   s.number("see_through_frames", c.see_through_frames, 0, 100000);
-  s.number("start_clearance", c.start_clearance, 0.0, 100.0);
   s.number("see_through_tolerance", c.see_through_tolerance, 0.01, 10.0);
   s.number("center_fraction", c.center_fraction, 0.01, 1.0);
   s.number("d_near", c.d_near, 0.0, 100.0);

@@ -114,12 +114,6 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
     if (end_checked) radii.push_back(config_.end_clearance);
     const std::optional<ReachableBox> reach = reachOfAll(floors, *std::max_element(radii.begin(), radii.end()));
     auto reachable = [&](const Eigen::Vector3d& x) { return !reach || reach->contains(x); };
-    // Body-level points inside the standing player's clearance (collision.start_clearance)
-    // are free space; floor points stay, for the stepped body's support.
-    const double stand = config_.start_clearance * start.cameraHeight();
-    auto inStandingHull = [&](const Eigen::Vector3d& x, double h) {
-      return stand > 0 && h >= config_.height_low && start.axisDistanceSquared(x) <= stand * stand;
-    };
     std::vector<HeightedPoint> points;
     for (const KeyframePoints& kf : keyframes_)
       for (const auto& p : kf.points) {
@@ -127,7 +121,7 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
         if (!reachable(x)) continue;
         const FloorPlane& datum = stepped ? start : floors[kf.frame];
         const double h = datum.normalisedHeight(x);
-        if (counted(h, p.confidence) && !inStandingHull(x, h)) points.push_back({x, h, p.confidence});
+        if (counted(h, p.confidence)) points.push_back({x, h, p.confidence});
       }
     if (start.cameraHeight() > 0) {
       const double radius = config_.body_radius * start.cameraHeight();
@@ -144,7 +138,7 @@ BranchVerdict BranchCheck::finish(const std::string& candidate, bool rotation_on
           if (!reachable(x)) continue;
           const bool own = own_floor && std::isfinite(p.h);
           const double h = own ? static_cast<double>(p.h) : start.normalisedHeight(x);
-          if (counted(h, p.confidence) && !inStandingHull(x, h)) points.push_back({x, h, p.confidence});
+          if (counted(h, p.confidence)) points.push_back({x, h, p.confidence});
         }
     }
     if (config_.see_through_frames > 0 && !rotation_only && !depth_views_.empty()) {

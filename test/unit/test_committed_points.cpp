@@ -103,33 +103,6 @@ TEST(CommittedPoints, PointsBesideTheStartAreLeftOut) {
   EXPECT_EQ(walk(Config(), wall(0.3, 0.9), false).start_occupied, 0);
 }
 
-// [ours] collision.start_clearance: points just ahead of the start, x in {-0.02, 0, 0.02},
-// z in {0.11 .. 0.14}, 4 rows (48 points). From the start axis they lie 0.11 to
-// sqrt(0.02^2 + 0.14^2) = 0.141: outside rho (0.105), so eq. 6 counts them, at the samples
-// z = 0.1 (at most sqrt(0.02^2 + 0.04^2) = 0.045 away) and z = 0.2 (at most 0.092), and
-// at no other (z = 0.3: 0.16 or more): 48 at two samples in a row, a collision. With a
-// clearance of 0.30 eye heights (0.15 map units) all 48 stand inside the player's hull
-// at the start and count nowhere; with 0.23 (0.115) only the row z = 0.11 (at most
-// sqrt(0.02^2 + 0.11^2) = 0.112 away) stays out: 12 points, 36 count.
-TEST(CommittedPoints, PointsInTheStandingHullCountNowhere) {
-  KeyframeCloud cloud;
-  for (float x : {-0.02f, 0.f, 0.02f})
-    for (float z : {0.11f, 0.12f, 0.13f, 0.14f})
-      for (float y : {0.05f, 0.15f, 0.25f, 0.35f}) cloud.points.push_back({Eigen::Vector3f(x, y, z), {}, 10.f});
-  const CommittedSteps ahead = committedStep(cloud, startFloor());
-  const BranchVerdict off = walk(Config(), ahead, false);
-  EXPECT_TRUE(off.collision_pc);
-  EXPECT_EQ(off.body_counts, (std::vector<int>{0, 48, 48, 0, 0, 0, 0, 0, 0, 0}));
-  EXPECT_EQ(off.start_occupied, 0);
-  Config config;
-  config.collision.start_clearance = 0.30;
-  const BranchVerdict on = walk(config, ahead, false);
-  EXPECT_FALSE(on.collision_pc);
-  EXPECT_EQ(on.body_counts, std::vector<int>(10, 0));
-  config.collision.start_clearance = 0.23;
-  EXPECT_EQ(walk(config, ahead, false).body_counts, (std::vector<int>{0, 36, 36, 0, 0, 0, 0, 0, 0, 0}));
-}
-
 // body_counts frame by frame for the wall from z = 0.3 to 0.9: at z_i the points with
 // |z - z_i| <= 0.068 count, 4 rows each. z = 0 .. 0.2: none (the wall is 0.1 or more
 // ahead); z = 0.3: 0.30 .. 0.36, 7 values = 28; z = 0.4 .. 0.8: 13 values = 52;

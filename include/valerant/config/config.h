@@ -180,12 +180,6 @@ struct CollisionConfig {
   // saw it where it is (free_space_evidence.h, docs/see_through.md): the visual depth
   // scatters points into open space. 0 = off (the paper).
   int see_through_frames = 0;
-  // [ours] > rho: body-level points within this many eye heights of the start's body axis
-  // count in no sample of eq. 6: the player stands there, its hull reaching 0.30 from
-  // the axis. The visual depth puts points there that no frame of the branch looks at
-  // (below the view; docs/pockets.md "Why eq. 6 fires at the first samples"). 0 = off:
-  // only the points within rho are left out (start_occupied).
-  double start_clearance = 0;
   // ... a frame saw past a point at depth z when its depth there exceeds (1 + this) z,
   // and saw it when within this share of z.
   double see_through_tolerance = 0.3;
