@@ -238,6 +238,7 @@ void readCollision(Section s, CollisionConfig& c) {
   s.number("height_high", c.height_high, -10.0, 10.0);
   s.number("step_height", c.step_height, 0.0, 10.0);
   s.number("climb_lag", c.climb_lag, 0, 100000);
+  s.choice("step_count", c.step_count, {"band", "above_step"});
   s.number("min_confidence", c.min_confidence, 0.0, 1e6);
   s.number("n_occ", c.n_occ, 1, 10000000);
   s.number("n_occ_consecutive", c.n_occ_consecutive, 1, 1000);
@@ -551,6 +552,8 @@ Config ConfigDocument::parse() const {
   }
   if (c.collision.climb_lag > 0 && c.collision.step_height == 0)
     top.fail("collision.climb_lag", "bounds the stepped body's climbs, so it needs collision.step_height > 0");
+  if (c.collision.step_count != "band" && c.collision.step_height == 0)
+    top.fail("collision.step_count", "chooses what the stepped body counts, so it needs collision.step_height > 0");
   // Short translations and turns are prefixes of uw / jq: shorter than their horizon.
   for (const auto& [key, frames] : {std::pair{"policy.short_translation_frames", &c.policy.short_translation_frames},
                                     std::pair{"policy.short_turn_frames", &c.policy.short_turn_frames}})

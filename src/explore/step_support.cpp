@@ -59,6 +59,7 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
       const double top = eye_counted ? std::max(body_top, eye_top) : body_top;
       bool blocked = false;
       int band = 0;            // the paper's count over the support
+      int over_step = 0;       // ... its part over the step
       int eye_band = 0;        // ... and over the eye's floor
       double tread = support;  // the highest point within a step (the support if none)
       bool any_tread = false;
@@ -67,7 +68,10 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
         if (h > top) return;
         if (eye_counted && h >= eye_low && h <= eye_top) ++eye_band;
         if (h > body_top) return;
-        if (h > step_top) blocked = true;
+        if (h > step_top) {
+          blocked = true;
+          ++over_step;
+        }
         if (h >= body_low) ++band;
         if (h <= step_top) {
           tread = any_tread ? std::max(tread, h) : h;
@@ -77,7 +81,8 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
       if (!blocked) support = withinAStepOfTheEye(tread, eye, config.step_height);
       unfollowed = eye_counted && support > eye_low ? unfollowed + 1 : 0;
       const bool not_climbed = config.climb_lag > 0 && unfollowed > config.climb_lag;
-      out[r].counts.push_back(not_climbed ? eye_band : blocked ? band : 0);
+      const int blocked_count = config.step_count == "above_step" ? over_step : band;
+      out[r].counts.push_back(not_climbed ? eye_band : blocked ? blocked_count : 0);
       out[r].support.push_back(support);
     }
   }

@@ -59,6 +59,7 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_DOUBLE_EQ(c.collision.height_high, 1.19);
   EXPECT_DOUBLE_EQ(c.collision.step_height, 0.0);  // [ours], off: the paper's cylinder
   EXPECT_EQ(c.collision.climb_lag, 0);               // [ours], off
+  EXPECT_EQ(c.collision.step_count, "band");         // [ours]: the paper's band (only read with step_height)
   EXPECT_DOUBLE_EQ(c.collision.min_confidence, 4.0);
   EXPECT_EQ(c.collision.n_occ, 30);
   EXPECT_EQ(c.collision.n_occ_consecutive, 2);
@@ -401,6 +402,10 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
   EXPECT_EQ(errorOfOverride("collision.climb_lag", "3"),
             "--set collision.climb_lag=3: collision.climb_lag: bounds the stepped body's climbs, so it needs "
             "collision.step_height > 0");
+  EXPECT_EQ(errorOfOverride("collision.step_count", "above_step"),
+            "--set collision.step_count=above_step: collision.step_count: chooses what the stepped body counts, so it "
+            "needs collision.step_height > 0");
+  EXPECT_NE(errorOfOverride("collision.step_count", "over"), "");
   ConfigDocument both = ConfigDocument::load(kShipped);
   both.set("collision.step_height", "0.45", "--set collision.step_height=0.45");
   both.set("collision.climb_lag", "3", "--set collision.climb_lag=3");

@@ -279,6 +279,44 @@ TEST(StepSupport, TheEyesFloorIsItsHeightOverTheFirstFloorLessOne) {
   EXPECT_DOUBLE_EQ(withinAStepOfTheEye(0.6, std::nan(""), 0.36), 0.6);
 }
 
+// [ours] step_count above_step: floor read a little high within a step, with one stray
+// point over the step, is no wall. Samples at x = 0.25, 0.5, 0.75, 1 (rho 0.21, step
+// 0.45); 40 floor points at z 0.30 on x = 0.5 and 40 at z 0.25 on x = 0.75 (|y| <= 0.1:
+// each group inside one sample's disc only, the other 0.25 away), and one point at z 0.60
+// on each line. The band (eta_low 0.18 up): sample 0 holds nothing (the support stays 0);
+// at samples 1 and 2 the point at 0.60 is over the step (0 + 0.45), so the disc is blocked,
+// the support stays 0 and the band counts 40 + 1 = 41 twice in a row: a collision. Over
+// the step only: 1 and 1, no collision. A face of 40 points at z 0.60 in place of each
+// stray point counts 40 at both samples (the floor below it not), and collides in both.
+TEST(StepSupport, FloorWithinAStepIsNoWallWhenOnlyWhatRisesOverTheStepCounts) {
+  const auto samples = track(0, 1, 4);
+  CollisionConfig band;
+  band.step_height = 0.45;
+  CollisionConfig over = band;
+  over.step_count = "above_step";
+  std::vector<HeightedPoint> scatter;
+  for (int j = -20; j < 20; ++j) {
+    scatter.push_back(at(0.5, 0.005 * j, 0.30));
+    scatter.push_back(at(0.75, 0.005 * j, 0.25));
+  }
+  std::vector<HeightedPoint> stray = scatter, face = scatter;
+  stray.push_back(at(0.5, 0, 0.60));
+  stray.push_back(at(0.75, 0, 0.60));
+  for (int j = -20; j < 20; ++j) {
+    face.push_back(at(0.5, 0.005 * j, 0.60));
+    face.push_back(at(0.75, 0.005 * j, 0.60));
+  }
+  const SteppedCounts banded = steppedBodyCounts(stray, samples, band, band.body_radius);
+  EXPECT_EQ(banded.counts, (std::vector<int>{0, 41, 41, 0}));
+  EXPECT_EQ(banded.support, (std::vector<double>{0, 0, 0, 0}));
+  EXPECT_TRUE(detectPointCloudCollision(stray, samples, band, false).collision);
+  EXPECT_EQ(steppedBodyCounts(stray, samples, over, over.body_radius).counts, (std::vector<int>{0, 1, 1, 0}));
+  EXPECT_FALSE(detectPointCloudCollision(stray, samples, over, false).collision);
+  EXPECT_EQ(steppedBodyCounts(face, samples, over, over.body_radius).counts, (std::vector<int>{0, 40, 40, 0}));
+  EXPECT_EQ(steppedBodyCounts(face, samples, band, band.body_radius).counts, (std::vector<int>{0, 80, 80, 0}));
+  EXPECT_TRUE(detectPointCloudCollision(face, samples, over, false).collision);
+}
+
 TEST(StepSupport, ThePaperSettingKeepsThePapersCounts) {
   // step_height 0: bodyCylinderCounts is eq. 6 itself (the staircase's first riser
   // counts 20 at sample 15).
@@ -304,7 +342,7 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
     support = withinAStep(support);
     const double kappa = s.cameraHeight();
     bool blocked = false, any_tread = false;
-    int band = 0, eye_band = 0;
+    int band = 0, over_step = 0, eye_band = 0;
     double tread = support;
     for (const auto& p : points) {
       if (!(kappa > 0) || p.confidence < config.min_confidence || !p.position.allFinite()) continue;
@@ -312,6 +350,7 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
       if (p.h >= eye + config.height_low && p.h <= eye + config.height_high) ++eye_band;
       if (p.h > support + config.height_high) continue;
       if (p.h > support + config.step_height) blocked = true;
+      if (p.h > support + config.step_height) ++over_step;
       if (p.h >= support + config.height_low) ++band;
       if (p.h <= support + config.step_height) {
         tread = any_tread ? std::max(tread, p.h) : p.h;
@@ -321,7 +360,8 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
     if (!blocked) support = withinAStep(tread);
     unfollowed = support > eye + config.height_low ? unfollowed + 1 : 0;
     const bool not_climbed = config.climb_lag > 0 && unfollowed > config.climb_lag;
-    out.counts.push_back(not_climbed ? eye_band : blocked ? band : 0);
+    const int blocked_count = config.step_count == "above_step" ? over_step : band;
+    out.counts.push_back(not_climbed ? eye_band : blocked ? blocked_count : 0);
     out.support.push_back(support);
   }
   return out;
@@ -333,7 +373,8 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
 // (heights in steps of 0.1 up to 2, some points unconfident, one non-finite), walked by
 // tilted axes whose eyes rise and fall (the bound by the eye bites), at two radii from
 // one index, as the branch check asks for rho and the prefix clearance; half the trials
-// with the climb lag (L = 2), which the rising terraces and wandering eyes set off.
+// with the climb lag (L = 2), which the rising terraces and wandering eyes set off, and
+// trials 4 to 7 counting only what rises over the step (step_count above_step).
 TEST(StepSupport, IndexedCountsEqualTheDefinition) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> uniform(-1, 1);
@@ -341,6 +382,7 @@ TEST(StepSupport, IndexedCountsEqualTheDefinition) {
   for (int trial = 0; trial < 10; ++trial) {
     CollisionConfig config = stepped();
     config.climb_lag = trial % 2 ? 2 : 0;
+    if (trial >= 4 && trial < 8) config.step_count = "above_step";
     std::vector<HeightedPoint> points;
     for (int i = 0; i < 3000; ++i) {
       const double x = 4 * uniform(rng), y = 2 * uniform(rng);
@@ -361,7 +403,9 @@ TEST(StepSupport, IndexedCountsEqualTheDefinition) {
       EXPECT_EQ(indexed[r].counts, expected.counts) << "trial " << trial << " radius " << radii[r];
       EXPECT_EQ(indexed[r].support, expected.support) << "trial " << trial << " radius " << radii[r];
     }
-    if (config.climb_lag > 0 && indexed[0].counts != steppedBodyCounts(points, samples, stepped(), radii[0]).counts)
+    CollisionConfig unlagged = config;
+    unlagged.climb_lag = 0;
+    if (config.climb_lag > 0 && indexed[0].counts != steppedBodyCounts(points, samples, unlagged, radii[0]).counts)
       ++lag_changed;
   }
   EXPECT_GT(lag_changed, 0);

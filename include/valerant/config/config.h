@@ -153,6 +153,11 @@ struct CollisionConfig {
   // and the disc is counted as the paper counts it over the eye's floor (step_support.h).
   // 0 = off.
   int climb_lag = 0;
+  // [ours] What a blocked disc of the stepped body counts (step_support.h): "band", the
+  // paper's band over the support (eta_low to eta_high); "above_step", only what rises
+  // over the step (step_height to eta_high), so the floor scatter within a step the body
+  // would climb is no obstacle mass. Only with step_height > 0.
+  std::string step_count = "band";
   double min_confidence = 4.0;
   int n_occ = 30;
   int n_occ_consecutive = 2;
