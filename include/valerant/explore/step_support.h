@@ -12,10 +12,11 @@
 //   blocked_i:  count_i = #{p in D_i : g_i + eta_low <= h(p) <= g_i + eta_high},
 //               f_i = g_i (with collision.step_count = above_step [ours]:
 //               count_i = #{p in D_i : g_i + s < h(p) <= g_i + eta_high}, only what the
-//               body cannot step over: the visual depth reads near floor up to 40 %
-//               short at the bottom of an image, and such a floor point sits up to 0.4
-//               eye heights up, within a step, where one stray point over the step made
-//               the band count it as wall; docs/pockets.md, "Floor within a step");
+//               body cannot step over: the visual depth reads a few per cent of near
+//               floor 20 to 45 % short, and such a floor point sits 0.2 to 0.45 eye
+//               heights up, within a step, where one stray point over the step made the
+//               band count it as wall; no gain in episodes, docs/pockets.md, "Floor
+//               within a step");
 //   otherwise:  count_i = 0,
 //               f_i = clamp_i(the highest h(p) <= g_i + s in D_i (g_i if there is none));
 // and, with collision.climb_lag L > 0, u_i = u_{i-1} + 1 where f_i > e_i + eta_low (u_i = 0
