@@ -42,6 +42,7 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
   const BodyPointIndex index(positions, samples, *std::min_element(radii.begin(), radii.end()),
                              *std::max_element(radii.begin(), radii.end()));
   const std::vector<double> eye_supports = eyeSupports(samples);
+  const bool count_over_step = config.step_count == "above_step";
   for (size_t r = 0; r < radii.size(); ++r) {
     double support = 0;
     int unfollowed = 0;  // samples in a row with the body over the eye's floor
@@ -57,9 +58,8 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
       const bool eye_counted = config.climb_lag > 0 && eye_known;
       const double eye_low = eye + config.height_low, eye_top = eye + config.height_high;
       const double top = eye_counted ? std::max(body_top, eye_top) : body_top;
-      bool blocked = false;
       int band = 0;            // the paper's count over the support
-      int over_step = 0;       // ... its part over the step
+      int over_step = 0;       // ... its part over the step: the disc is blocked where > 0
       int eye_band = 0;        // ... and over the eye's floor
       double tread = support;  // the highest point within a step (the support if none)
       bool any_tread = false;
@@ -68,20 +68,18 @@ std::vector<SteppedCounts> steppedBodyCounts(const std::vector<HeightedPoint>& p
         if (h > top) return;
         if (eye_counted && h >= eye_low && h <= eye_top) ++eye_band;
         if (h > body_top) return;
-        if (h > step_top) {
-          blocked = true;
-          ++over_step;
-        }
+        if (h > step_top) ++over_step;
         if (h >= body_low) ++band;
         if (h <= step_top) {
           tread = any_tread ? std::max(tread, h) : h;
           any_tread = true;
         }
       });
+      const bool blocked = over_step > 0;
       if (!blocked) support = withinAStepOfTheEye(tread, eye, config.step_height);
       unfollowed = eye_counted && support > eye_low ? unfollowed + 1 : 0;
       const bool not_climbed = config.climb_lag > 0 && unfollowed > config.climb_lag;
-      const int blocked_count = config.step_count == "above_step" ? over_step : band;
+      const int blocked_count = count_over_step ? over_step : band;
       out[r].counts.push_back(not_climbed ? eye_band : blocked ? blocked_count : 0);
       out[r].support.push_back(support);
     }

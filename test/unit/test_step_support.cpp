@@ -349,8 +349,10 @@ SteppedCounts steppedByBruteForce(const std::vector<HeightedPoint>& points, cons
       if (s.axisDistanceSquared(p.position) > radius * radius * kappa * kappa) continue;
       if (p.h >= eye + config.height_low && p.h <= eye + config.height_high) ++eye_band;
       if (p.h > support + config.height_high) continue;
-      if (p.h > support + config.step_height) blocked = true;
-      if (p.h > support + config.step_height) ++over_step;
+      if (p.h > support + config.step_height) {
+        blocked = true;
+        ++over_step;
+      }
       if (p.h >= support + config.height_low) ++band;
       if (p.h <= support + config.step_height) {
         tread = any_tread ? std::max(tread, p.h) : p.h;
