@@ -248,6 +248,7 @@ void readCollision(Section s, CollisionConfig& c) {
   s.number("end_clearance", c.end_clearance, 0.0, 100.0);
   s.number("see_through_frames", c.see_through_frames, 0, 100000);
   s.number("see_through_tolerance", c.see_through_tolerance, 0.01, 10.0);
+  s.number("carve_committed_views", c.carve_committed_views, 0, 100000);
   s.number("center_fraction", c.center_fraction, 0.01, 1.0);
   s.number("d_near", c.d_near, 0.0, 100.0);
   s.number("s_min_coefficient", c.s_min_coefficient, 0.0, 10.0);

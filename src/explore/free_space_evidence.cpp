@@ -42,4 +42,21 @@ DepthView depthViewOf(const Eigen::Isometry3d& camera_to_map, const cv::Mat& dep
   return v;
 }
 
+DepthView depthViewOfCloud(const KeyframeCloud& keyframe, const CameraIntrinsics& view, double min_confidence) {
+  if (view.width <= 0 || view.height <= 0) throw InputError("depth view", "the view's intrinsics have no size");
+  DepthView v;
+  v.map_to_camera = keyframe.camera_to_map.inverse();
+  v.depth = cv::Mat(view.height, view.width, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+  for (const CloudPoint& p : keyframe.points) {
+    if (p.confidence < min_confidence) continue;
+    const Eigen::Vector3d x = v.map_to_camera * p.position.cast<double>();
+    if (!(x.z() > 0)) continue;
+    const Eigen::Vector2d px = visual::project(view, x);
+    if (!(px.x() >= 0 && px.y() >= 0 && px.x() < view.width && px.y() < view.height)) continue;
+    float& d = v.depth.at<float>(static_cast<int>(px.y()), static_cast<int>(px.x()));
+    if (!(d <= x.z())) d = static_cast<float>(x.z());  // NaN or farther: the nearer point is what the view saw
+  }
+  return v;
+}
+
 }  // namespace valerant

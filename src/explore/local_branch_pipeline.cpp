@@ -15,7 +15,7 @@ LocalBranchPipeline::LocalBranchPipeline(const CameraIntrinsics& intrinsics, con
       truth_(std::make_shared<RolloutTruth>()),
       slam_(makeSlam(config.slam.backend, intrinsics, config, truth_)),
       floor_(config.floor, Eigen::Vector3d::UnitZ(), config.collision.min_confidence, config.world.seed),
-      committed_(config.collision) {}
+      committed_(config.collision, intrinsics) {}
 
 BranchResult LocalBranchPipeline::start(const Rollout& context) {
   resume_->clear();

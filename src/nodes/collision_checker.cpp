@@ -132,7 +132,7 @@ class CollisionChecker {
     return guarded("collision_checker/reset", res, [&] {
       // An episode starts here: its first results must not be lost to a link still being set up.
       valerant::bridge::connectInputs(samples_, subscribe_, valerant::bridge::kTopicLinkTimeoutS, "collision_checker");
-      committed_ = CommittedPoints(config_.collision);
+      committed_ = CommittedPoints(config_.collision, frameIntrinsics());
       saved_.clear();
       branches_.clear();
       judged_.clear();
@@ -164,18 +164,30 @@ class CollisionChecker {
       if (it == judged_.end())
         throw InputError("rollout " + std::to_string(req.rollout_id) + " of '" + req.candidate + "'",
                          "no such branch was judged since the latest checkpoint");
+      const valerant::CandidateResult& judged = it->second;
+      if (judged.keyframe_poses.size() != judged.keyframes.size())
+        throw InputError("rollout " + std::to_string(req.rollout_id) + " of '" + req.candidate + "'",
+                         std::to_string(judged.keyframes.size()) + " keyframe clouds but " +
+                             std::to_string(judged.keyframe_poses.size()) + " keyframe poses");
       std::vector<KeyframeCloud> keyframes;
-      for (const auto& cloud : it->second.keyframes)
-        keyframes.push_back({0, 0, Eigen::Isometry3d::Identity(), valerant::bridge::fromCloudMsg(cloud)});
+      for (size_t k = 0; k < judged.keyframes.size(); ++k)
+        keyframes.push_back({0, 0, valerant::bridge::fromMsg(judged.keyframe_poses[k]),
+                             valerant::bridge::fromCloudMsg(judged.keyframes[k])});
       std::vector<FloorPlane> floors;
-      for (const auto& floor : it->second.keyframe_floors) floors.push_back(valerant::bridge::fromMsg(floor));
+      for (const auto& floor : judged.keyframe_floors) floors.push_back(valerant::bridge::fromMsg(floor));
       committed_.add(keyframes, floors);
       judged_.clear();
     });
   }
 
+  // The camera the graph's frames are rendered with (world.width x height, fov_x_deg):
+  // carving rebuilds the committed keyframes' depth views with it (committed_points.h).
+  CameraIntrinsics frameIntrinsics() const {
+    return CameraIntrinsics::fromHorizontalFov(config_.world.width, config_.world.height, config_.world.fov_x_deg);
+  }
+
   Config config_;
-  CommittedPoints committed_{config_.collision};  // counted by every branch's BranchCheck
+  CommittedPoints committed_{config_.collision, frameIntrinsics()};  // counted by every branch's BranchCheck
   CheckpointStore<CommittedPoints> saved_;
   std::map<std::string, Branch> branches_;  // in flight, one per candidate's branch
   // Every rollout judged since the latest checkpoint: a step may judge several on one

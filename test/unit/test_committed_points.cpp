@@ -241,6 +241,128 @@ TEST(CommittedPoints, PointsOutOfEveryBodysReachChangeNoCount) {
             steppedBodyCounts(counted, floors, stepped.collision, stepped.collision.body_radius).counts);
 }
 
+// Carving (collision.carve_committed_views). Frames of 320 x 240 at 90 degrees: the
+// rebuilt views are 160 x 120 with f = 80, c = (80, 60), so a point (x, y, z) in a
+// camera's frame lands on pixel (80 + 80 x / z, 60 + 80 y / z).
+namespace {
+
+const CameraIntrinsics kFrame = CameraIntrinsics::fromHorizontalFov(320, 240, 90);
+
+Config carving(int views) {
+  Config c;
+  c.collision.carve_committed_views = views;
+  return c;
+}
+
+// A keyframe at `camera_to_map` holding `points` (camera frame), confidence 10.
+KeyframeCloud keyframeSeeing(const Eigen::Isometry3d& camera_to_map, const std::vector<Eigen::Vector3f>& points) {
+  KeyframeCloud cloud;
+  cloud.camera_to_map = camera_to_map;
+  for (const Eigen::Vector3f& p : points) cloud.points.push_back({camera_to_map.cast<float>() * p, {}, 10.f});
+  return cloud;
+}
+
+// A wall filling a view at depth `depth`: one point on each of its 160 x 120 pixel centres.
+KeyframeCloud keyframeFacingAWall(const Eigen::Isometry3d& camera_to_map, float depth) {
+  std::vector<Eigen::Vector3f> points;
+  for (int v = 0; v < 120; ++v)
+    for (int u = 0; u < 160; ++u)
+      points.emplace_back((u + 0.5f - 80) / 80 * depth, (v + 0.5f - 60) / 80 * depth, depth);
+  return keyframeSeeing(camera_to_map, points);
+}
+
+}  // namespace
+
+// Pixel (80 + 80 * 0.5 / 2, 60 + 80 * 0.25 / 2) = (100, 70) holds the nearer of two points
+// on its ray (depth 2, not 4); a point under the confidence cut, one behind the camera and
+// one outside the image leave their pixels unknown.
+TEST(CommittedPoints, AKeyframesViewIsRebuiltFromItsCloud) {
+  KeyframeCloud kf = keyframeSeeing(Eigen::Isometry3d::Identity(),
+                                    {{0.5f, 0.25f, 2.f}, {1.f, 0.5f, 4.f}, {0, 0, -1.f}, {10.f, 0, 1.f}, {0, 0, 3.f}});
+  kf.points.back().confidence = 1.f;  // (0, 0, 3) on pixel (80, 60): not confident
+  const DepthView view = depthViewOfCloud(kf, CameraIntrinsics::fromHorizontalFov(160, 120, 90), 4.0);
+  ASSERT_EQ(view.depth.size(), cv::Size(160, 120));
+  EXPECT_FLOAT_EQ(view.depth.at<float>(70, 100), 2.f);
+  EXPECT_EQ(cv::countNonZero(view.depth == view.depth), 1);  // NaN != NaN: one pixel known
+}
+
+// A stray point 1 ahead of keyframe A; keyframes B and C stand at A's place and see a wall
+// 3 ahead on its pixel (80, 60): 3 > 1.3 x 1, each sees past it. A's own view sees it
+// there (support 1). After B: through 1, support 1, kept (through must exceed support);
+// after C: through 2 > 1, carved at k = 1 and 2, kept at k = 3. The wall points (3
+// ahead) are hidden behind the stray in A's view (1 < 0.7 x 3) and held by B and C.
+// In the other order (B, C, then A) the new step's stray point meets the kept views at once.
+TEST(CommittedPoints, PointsTheCommittedViewsSawPastAreCarved) {
+  const Eigen::Isometry3d here = Eigen::Isometry3d::Identity();
+  const KeyframeCloud a = keyframeSeeing(here, {{0, 0, 1.f}});
+  const KeyframeCloud wall = keyframeSeeing(here, {{0, 0, 3.f}});
+  for (const int k : {1, 2, 3}) {
+    CommittedPoints committed(carving(k).collision, kFrame);
+    committed.add({a}, {startFloor()});
+    committed.add({wall}, {startFloor()});
+    EXPECT_EQ(committed.carvedPoints(), 0u) << k;
+    committed.add({wall}, {startFloor()});
+    EXPECT_EQ(committed.carvedPoints(), k <= 2 ? 1u : 0u) << k;
+    EXPECT_EQ(committed.points().front()->size(), k <= 2 ? 0u : 1u) << k;
+    EXPECT_EQ(committed.points()[1]->size(), 1u) << k;
+
+    CommittedPoints reversed(carving(k).collision, kFrame);
+    reversed.add({wall}, {startFloor()});
+    reversed.add({wall}, {startFloor()});
+    reversed.add({a}, {startFloor()});
+    EXPECT_EQ(reversed.carvedPoints(), k <= 2 ? 1u : 0u) << k;
+    EXPECT_EQ(reversed.points().back()->size(), k <= 2 ? 0u : 1u) << k;
+  }
+  CommittedPoints off(Config().collision, kFrame);
+  for (const KeyframeCloud& kf : {a, wall, wall}) off.add({kf}, {startFloor()});
+  EXPECT_EQ(off.carvedPoints(), 0u);
+  EXPECT_EQ(off.points().front()->size(), 1u);
+}
+
+// Evidence gathered after a checkpoint does not reach it.
+TEST(CommittedPoints, ACheckpointKeepsItsOwnEvidence) {
+  const Eigen::Isometry3d here = Eigen::Isometry3d::Identity();
+  CommittedPoints committed(carving(2).collision, kFrame);
+  committed.add({keyframeSeeing(here, {{0, 0, 1.f}})}, {startFloor()});
+  committed.add({keyframeSeeing(here, {{0, 0, 3.f}})}, {startFloor()});
+  const CommittedPoints saved = committed;
+  committed.add({keyframeSeeing(here, {{0, 0, 3.f}})}, {startFloor()});
+  EXPECT_EQ(committed.carvedPoints(), 1u);
+  EXPECT_EQ(saved.carvedPoints(), 0u);
+  EXPECT_EQ(saved.points().front()->size(), 1u);
+}
+
+// The wall of WallBesideThePathIsACollision (52 points at its fullest sample), and a
+// later step with two keyframes 2 behind the start (0, 0, -2) facing a wall 10 away
+// (at z = 8). The wall's points stand 2.3 to 2.9 ahead of them, inside their views
+// (pixel row 60 + 80 x 0.35 / 2.3 = 72 at most), where they read 10 > 1.3 x 2.9: two
+// views see past every point, and at most one (the wall's own keyframe) sees it there.
+// With k = 2 none is left in the body (the walk is clear); k = 3 keeps all 52.
+TEST(CommittedPoints, AWallTheLaterViewsSawPastIsNoCollision) {
+  Eigen::Isometry3d behind = Eigen::Isometry3d::Identity();
+  behind.translation() = Eigen::Vector3d(0, 0, -2);
+  KeyframeCloud near_wall = wallCloud(0.3, 0.9);
+  near_wall.camera_to_map = Eigen::Isometry3d::Identity();
+  const KeyframeCloud far = keyframeFacingAWall(behind, 10.f);
+  for (const int k : {2, 3}) {
+    CommittedPoints committed(carving(k).collision, kFrame);
+    committed.add({near_wall}, {startFloor()});
+    committed.add({far, far}, {startFloor(), startFloor()});
+    const BranchVerdict v = walk(carving(k), committed.points(), false);
+    EXPECT_EQ(v.occupied_max, k == 2 ? 0 : 52) << k;
+    EXPECT_EQ(v.collision_pc, k == 3) << k;
+  }
+}
+
+TEST(CommittedPoints, CarvingWithoutTheFramesIntrinsicsIsAnErrorNamingTheKey) {
+  try {
+    CommittedPoints committed(carving(2).collision);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.input(), "collision.carve_committed_views");
+  }
+}
+
 TEST(CommittedPoints, KeyframesAndFloorsMustPair) {
   CommittedPoints committed(Config().collision);
   EXPECT_THROW(committed.add({pointAtX(1.f, 10.f)}, {}), InputError);

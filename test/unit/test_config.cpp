@@ -69,6 +69,7 @@ TEST(Config, ShippedFileHasThePapersValues) {
   EXPECT_EQ(c.collision.end_clearance, 0.0);      // [ours], off
   EXPECT_EQ(c.collision.see_through_frames, 0);   // [ours], off
   EXPECT_DOUBLE_EQ(c.collision.see_through_tolerance, 0.3);
+  EXPECT_EQ(c.collision.carve_committed_views, 0);  // [ours], off
   EXPECT_NEAR(c.collision.center_fraction, 1.0 / 3.0, 1e-9);
   EXPECT_DOUBLE_EQ(c.collision.d_near, 0.455);
   EXPECT_DOUBLE_EQ(c.collision.s_min_coefficient, 0.085);
@@ -385,6 +386,8 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
             "--set collision.see_through_frames=-1: collision.see_through_frames: value -1 outside [0, 100000]");
   EXPECT_EQ(errorOfOverride("collision.see_through_tolerance", "0"),
             "--set collision.see_through_tolerance=0: collision.see_through_tolerance: value 0 outside [0.01, 10]");
+  EXPECT_EQ(errorOfOverride("collision.carve_committed_views", "-1"),
+            "--set collision.carve_committed_views=-1: collision.carve_committed_views: value -1 outside [0, 100000]");
   EXPECT_EQ(errorOfOverride("collision.step_height", "-0.1"),
             "--set collision.step_height=-0.1: collision.step_height: value -0.1 outside [0, 10]");
   // Between 0 and eta_low, and from eta_high up: no step-aware cylinder.
@@ -450,6 +453,7 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.collision.climb_lag, CollisionConfig().climb_lag);
   EXPECT_EQ(shipped.collision.see_through_frames, CollisionConfig().see_through_frames);
   EXPECT_EQ(shipped.collision.see_through_tolerance, CollisionConfig().see_through_tolerance);
+  EXPECT_EQ(shipped.collision.carve_committed_views, CollisionConfig().carve_committed_views);
 }
 
 TEST(Config, LearnedWorldSectionHasTheModelsContractAndRanges) {

@@ -189,6 +189,11 @@ struct CollisionConfig {
   // ... a frame saw past a point at depth z when its depth there exceeds (1 + this) z,
   // and saw it when within this share of z.
   double see_through_tolerance = 0.3;
+  // [ours] > 0: a committed point counts in eq. 6 only while fewer than this many of the
+  // kept committed keyframes' views saw past it, or no more of them than saw it there
+  // (committed_points.h; the same evidence and tolerance as see_through_frames, from the
+  // committed views instead of the branch's frames). 0 = off (the paper).
+  int carve_committed_views = 0;
   double center_fraction = 1.0 / 3.0;
   double d_near = 0.455;
   double s_min_coefficient = 0.085;

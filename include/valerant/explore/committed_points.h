@@ -20,13 +20,27 @@
 // high in a thin layer inside the body cylinder and reject clean translations: 1,005 to
 // 1,447 points at the first samples of a `uw` on oa_dm5 spawn 1 (docs/committed_heights.md).
 //
+// [ours] Carving (collision.carve_committed_views k > 0, docs/see_through.md): the visual
+// depth scatters points into open space, and on oa_dm5 96 % of the points eq. 6 counted
+// at its false collisions were committed ones, most of them floor read short, which the
+// branch's own frames (see_through_frames) rarely look at. The committed keyframes did:
+// each step's keyframe depth views are rebuilt from their clouds (depthViewOfCloud), and
+// every kept point gathers free-space evidence (free_space_evidence.h) from the views of
+// every step added while it is kept, its own step's included. A point seen through by k
+// or more views, and by more than saw it there, is left out of points(). A floor point
+// read h eye heights high is seen through by any view that sees the floor behind it
+// once 1 / (1 - h) > 1 + tau (h > 0.23 at tau 0.3), at whatever distance: the ray from
+// the eye through it meets the floor that much farther on.
+//
 // A value: checkpoints copy it. The per-step point sets are immutable and shared by
 // every copy, and are handed to the branches as they are: one merged copy per
 // checkpoint cost up to 150 MB each with the depth prior's dense clouds.
 #include <memory>
 #include <vector>
 
+#include "valerant/common/camera.h"
 #include "valerant/config/config.h"
+#include "valerant/explore/free_space_evidence.h"
 #include "valerant/geometry/floor_plane.h"
 #include "valerant/slam/slam.h"
 
@@ -45,19 +59,31 @@ using CommittedSteps = std::vector<std::shared_ptr<const std::vector<CommittedPo
 
 class CommittedPoints {
  public:
-  // Keeps the latest config.previous_steps steps (0: none).
-  explicit CommittedPoints(const CollisionConfig& config);
+  // Keeps the latest config.previous_steps steps (0: none). `frame`: the intrinsics of
+  // the frames the keyframes came from; carving needs them (an InputError naming the key without).
+  explicit CommittedPoints(const CollisionConfig& config, const CameraIntrinsics& frame = {});
   // One committed step: the keyframe clouds its branch made and their floors (one
   // each; BranchResult::keyframe_floors). Throws InputError when the counts differ.
   void add(const std::vector<KeyframeCloud>& keyframes, const std::vector<FloorPlane>& floors);
-  // The kept steps' points, oldest step first; empty when none are kept.
+  // The kept steps' points, oldest step first, less the carved ones; empty when none are kept.
   const CommittedSteps& points() const { return steps_; }
   int steps() const { return static_cast<int>(steps_.size()); }
+  // Points of the kept steps that carving leaves out of points() (0 without carving).
+  size_t carvedPoints() const;
 
  private:
-  int steps_kept_;
-  float min_confidence_;
+  // What carving keeps of a step beside its points; immutable, shared by copies.
+  struct Carving {
+    std::shared_ptr<const std::vector<CommittedPoint>> all;          // every confident point
+    std::shared_ptr<const std::vector<FreeSpaceEvidence>> evidence;  // per point of `all`
+    std::shared_ptr<const std::vector<DepthView>> views;             // the step's keyframes'
+  };
+  // Adds the evidence of `views` to `carving`'s points; returns the step's points left.
+  std::shared_ptr<const std::vector<CommittedPoint>> carve(Carving& carving, const std::vector<DepthView>& views) const;
+  CollisionConfig config_;
+  CameraIntrinsics view_;  // of the rebuilt depth views: half the frame's resolution
   CommittedSteps steps_;
+  std::vector<Carving> carving_;  // one per kept step while carving, else empty
 };
 
 }  // namespace valerant

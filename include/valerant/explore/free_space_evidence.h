@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "valerant/common/camera.h"
+#include "valerant/slam/slam.h"
 
 namespace valerant {
 
@@ -41,5 +42,12 @@ FreeSpaceEvidence freeSpaceEvidence(const Eigen::Vector3d& p, const std::vector<
 // a shrink of 2 keeps every value it measured).
 DepthView depthViewOf(const Eigen::Isometry3d& camera_to_map, const cv::Mat& depth, const cv::Mat& confidence,
                       double min_confidence, int shrink);
+
+// A keyframe's depth view rebuilt from its cloud (committed steps keep their points, not
+// their depth images): each point with confidence >= `min_confidence` is projected into
+// the keyframe's own camera with intrinsics `view` and the nearest one kept per pixel.
+// The visual clouds hold one point per swept pixel (every second pixel a side), so at
+// half the frame's resolution this gives back the confident depth the view measured.
+DepthView depthViewOfCloud(const KeyframeCloud& keyframe, const CameraIntrinsics& view, double min_confidence);
 
 }  // namespace valerant
