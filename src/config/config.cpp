@@ -361,6 +361,7 @@ void readDeadPocket(Section s, DeadPocketConfig& d) {
   s.boolean("free_way_back", d.free_way_back);
   s.boolean("reach_past_known_pocket", d.reach_past_known_pocket);
   s.boolean("ban_rewound_headings", d.ban_rewound_headings);
+  s.boolean("walk_in_cell_is_turn", d.walk_in_cell_is_turn);
   s.boolean("cross_failed", d.cross_failed);
   s.finish();
 }

@@ -188,6 +188,9 @@ StepRecord Episode::step() {
       Cell cell;
       if (grid_->cellOf(c, cell)) cells.insert(cell);
     }
+    Cell end_cell;
+    signals.ended_in_start_cell = !rotation_only && !centres[record.chosen].empty() &&
+                                  grid_->cellOf(centres[record.chosen].back(), end_cell) && end_cell == start_cell;
     const size_t start_frame = trajectory_.size() - 1, observed_before = grid_->observedCells();
     const auto t = std::chrono::steady_clock::now();
     commit(results[record.chosen], centres[record.chosen]);
@@ -205,6 +208,7 @@ StepRecord Episode::step() {
   }
   record.new_floor_cells = signals.new_floor_cells;
   record.drop = signals.drop;
+  record.ended_in_start_cell = signals.ended_in_start_cell;
   release(rewinder_.recordStep(record.checkpoint, start_cell, record.chosen >= 0, rotation_only, cells, signals));
   const auto in_failed = [this](const Cell& c) { return failed_.contains(c); };
   if (const auto decision = rewinder_.check(in_failed)) rewind(*decision, record);

@@ -72,6 +72,7 @@ nlohmann::json toJson(const StepRecord& r) {
           {"goal_distance_without_failed", r.goal_distance_without_failed},
           {"new_floor_cells", r.new_floor_cells},
           {"drop", r.drop},
+          {"ended_in_start_cell", r.ended_in_start_cell},
           {"seconds", toJson(r.seconds)},
           {"wall_seconds", r.wall_seconds}};
 }

@@ -7,7 +7,8 @@ namespace valerant {
 std::vector<uint64_t> RewindController::recordStep(uint64_t checkpoint, const Cell& start_cell, bool committed,
                                                    bool rotation_only, const std::set<Cell>& cells,
                                                    const PocketSignals& signals) {
-  const bool translational = committed && !rotation_only;
+  const bool walk_in_cell = config_.walk_in_cell_is_turn && signals.ended_in_start_cell;
+  const bool translational = committed && !rotation_only && !walk_in_cell;
   stalled_ = translational ? 0 : stalled_ + 1;
   if (config_.stagnant_steps > 0)
     stagnant_ = signals.new_floor_cells >= config_.stagnant_cells ? 0 : stagnant_ + 1;

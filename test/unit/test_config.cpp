@@ -448,6 +448,7 @@ TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   EXPECT_EQ(shipped.policy.surface_carving_ratio, built_in.surface_carving_ratio);
   EXPECT_EQ(shipped.dead_pocket.reach_past_known_pocket, DeadPocketConfig().reach_past_known_pocket);
   EXPECT_EQ(shipped.dead_pocket.ban_rewound_headings, DeadPocketConfig().ban_rewound_headings);
+  EXPECT_EQ(shipped.dead_pocket.walk_in_cell_is_turn, DeadPocketConfig().walk_in_cell_is_turn);
   EXPECT_EQ(shipped.dead_pocket.cross_failed, DeadPocketConfig().cross_failed);
   EXPECT_EQ(shipped.collision.step_height, CollisionConfig().step_height);
   EXPECT_EQ(shipped.collision.climb_lag, CollisionConfig().climb_lag);

@@ -51,6 +51,9 @@ TEST(EpisodeJson, PocketSignalsAndStagnantRewinds) {
   const nlohmann::json j = toJson(record);
   EXPECT_EQ(j["new_floor_cells"], 7);
   EXPECT_EQ(j["drop"], true);
+  EXPECT_EQ(j["ended_in_start_cell"], false);
+  record.ended_in_start_cell = true;
+  EXPECT_EQ(toJson(record)["ended_in_start_cell"], true);
   EXPECT_EQ(j["rewind_stagnant"], true);
   EXPECT_EQ(j["rewind_to"], 12);
   EXPECT_EQ(toJson(StepRecord{})["rewind_stagnant"], false);

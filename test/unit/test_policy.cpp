@@ -314,6 +314,42 @@ TEST(RewindController, AKnownPocketIsPassedOverToTheAnchorBefore) {
   EXPECT_EQ(only->reached_past, 0);
 }
 
+TEST(RewindController, AWalkThatEndsInItsStartCellCountsAsATurn) {
+  // Step 1 (checkpoint 1): forward (64,64) -> (68,64). Step 2 (checkpoint 2): a short
+  // walk that ends in its start cell (68,64). Then two rotations at (68,64).
+  PocketSignals in_cell;
+  in_cell.ended_in_start_cell = true;
+  auto walk_in_a_cell = [&](RewindController& r) {
+    r.recordStep(1, {64, 64}, true, false, {{64, 64}, {66, 64}, {68, 64}});
+    const auto released = r.recordStep(2, {68, 64}, true, false, {{68, 64}}, in_cell);
+    for (uint64_t c = 3; c <= 4; ++c) r.recordStep(c, {68, 64}, true, true, {{68, 64}});
+    return released;
+  };
+  // The paper: the walk is a translation, an anchor, and resets the count; two
+  // rotations after it are no dead pocket.
+  RewindController paper{DeadPocketConfig{}};
+  EXPECT_TRUE(walk_in_a_cell(paper).empty());
+  EXPECT_FALSE(paper.check());
+  EXPECT_EQ(paper.retained(), (std::vector<uint64_t>{1, 2}));
+  // With the option the walk counts as the first of three turns: its checkpoint is
+  // released at once, and the rewind goes to anchor 1, before the walk, putting the
+  // walk's cell into F ((64,64), the anchor's cell, stays free).
+  DeadPocketConfig config;
+  config.walk_in_cell_is_turn = true;
+  RewindController r(config);
+  EXPECT_EQ(walk_in_a_cell(r), (std::vector<uint64_t>{2}));
+  const auto d = r.check();
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->checkpoint, 1u);
+  EXPECT_EQ(d->discarded_steps, 4);
+  EXPECT_EQ(d->failed_cells, (std::set<Cell>{{66, 64}, {68, 64}}));
+  // A walk that leaves its start cell is a translation with the option too.
+  RewindController left(config);
+  left.recordStep(1, {64, 64}, true, false, {{64, 64}, {66, 64}, {68, 64}});
+  EXPECT_TRUE(left.recordStep(2, {68, 64}, true, false, {{68, 64}, {69, 64}}).empty());
+  EXPECT_EQ(left.retained(), (std::vector<uint64_t>{1, 2}));
+}
+
 TEST(RewindController, AnchorNeighbourhoodStaysOutOfF) {
   // The same dead end with radius 1: (73,64) borders the anchor cell (72,64) and stays
   // free, the pocket's cells (74,64) and (75,64) are marked.

@@ -248,6 +248,12 @@ struct DeadPocketConfig {
   // (rewound_headings.h): a walk that added no cell to F would otherwise be chosen again.
   // false = the paper: F alone bars the way back in.
   bool ban_rewound_headings = false;
+  // [ours] A committed translation that ends in the coverage-grid cell it started in
+  // counts as a turn for the dead-pocket rule: it resets no count and is no rewind anchor
+  // (rewind_controller.h). A short walk that moves no more than a turn does otherwise
+  // gives the rewind an anchor from which the same walk is chosen again (docs/pockets.md,
+  // the replay loop). false = the paper: every committed translation is one.
+  bool walk_in_cell_is_turn = false;
   // [ours] F bars a translation only where it ends (its last camera centre's cell), and
   // the whole-level terms' paths and rays cross F, whose cells are no goal frontier: the
   // cells a discarded segment walked are a line, which otherwise walls off all the space

@@ -66,6 +66,7 @@ struct StepRecord {
   int committed_steps = 0;     // committed steps of the kept path after the step (a rewind lowers it)
   int new_floor_cells = 0;     // coverage-grid floor cells the step observed first
   bool drop = false;           // a committed translation that ended dead_pocket.drop_height or more below its start
+  bool ended_in_start_cell = false;  // a committed translation that ended in the grid cell it started in
   int failed_forgotten = 0;    // [ours] cells of F forgotten after the step (dead_pocket.forget_failed_when_trapped)
   int rewind_reached_past = 0; // [ours] anchors the step's rewind passed over as known pockets (dead_pocket.reach_past_known_pocket)
   int way_back_freed = 0;      // [ours] cells of F on the kept path the step's rewind freed (dead_pocket.free_way_back)

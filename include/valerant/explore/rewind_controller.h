@@ -46,6 +46,12 @@
 // cell, then three turns, rewound again and again until no rewind is left). Such a
 // rewind goes to the held anchor before instead, and on, until one adds a cell or none
 // is held.
+//
+// [ours] Walks in a cell (dead_pocket.walk_in_cell_is_turn): a committed translation that
+// ends in the grid cell it started in counts as a turn, so it neither resets the count
+// of rotation-only steps nor becomes an anchor. Otherwise a short walk that moved less
+// than a cell, then three turns, rewinds to the walk's own start, from which the same
+// walk is chosen again (docs/pockets.md, the replay loop).
 #include <cstdint>
 #include <deque>
 #include <functional>
@@ -71,6 +77,7 @@ struct PocketSignals {
   bool drop = false;        // a committed translation that ended drop_height or more below its start
   int new_floor_cells = 0;  // floor cells of the coverage grid the step observed first
   bool start_in_contact = false;  // N_occ or more committed points inside the body at the step's start
+  bool ended_in_start_cell = false;  // a committed translation whose last camera centre lies in its start cell
 };
 
 class RewindController {
