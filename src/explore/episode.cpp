@@ -184,13 +184,11 @@ StepRecord Episode::step() {
   PocketSignals signals;
   if (record.chosen >= 0) {
     rotation_only = verdicts[record.chosen].rotation_only;
-    for (const auto& c : centres[record.chosen]) {
-      Cell cell;
-      if (grid_->cellOf(c, cell)) cells.insert(cell);
-    }
-    Cell end_cell;
-    signals.ended_in_start_cell = !rotation_only && !centres[record.chosen].empty() &&
-                                  grid_->cellOf(centres[record.chosen].back(), end_cell) && end_cell == start_cell;
+    Cell cell;
+    bool last_in_grid = false;  // after the loop: whether the last camera centre lies in the grid, in `cell`
+    for (const auto& c : centres[record.chosen])
+      if ((last_in_grid = grid_->cellOf(c, cell))) cells.insert(cell);
+    signals.ended_in_start_cell = !rotation_only && last_in_grid && cell == start_cell;
     const size_t start_frame = trajectory_.size() - 1, observed_before = grid_->observedCells();
     const auto t = std::chrono::steady_clock::now();
     commit(results[record.chosen], centres[record.chosen]);
