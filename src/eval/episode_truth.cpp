@@ -97,6 +97,33 @@ std::set<ReachableCells::CellStorey> ReachableCells::observedBy(const FusedKeyfr
   return seen;
 }
 
+std::set<ReachableCells::CellStorey> ReachableCells::inViewOf(const FrameTruth& frame, const CameraIntrinsics& k,
+                                                              double band_units, int stride) const {
+  std::set<CellStorey> seen;
+  if (frame.depth_m.empty()) return seen;
+  const Eigen::Isometry3d& pose = frame.camera_to_world;  // optical frame to BSP, game units
+  for (int v = stride / 2; v < frame.depth_m.rows; v += stride) {
+    const float* row = frame.depth_m.ptr<float>(v);
+    for (int u = stride / 2; u < frame.depth_m.cols; u += stride) {
+      const double d = row[u];
+      if (!std::isfinite(d) || d <= 0) continue;  // NaN: sky
+      const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+      const Eigen::Vector3d world = pose * (d * quake3::kUnitsPerMetre * ray);
+      if (std::abs(world.z() - frame.floor_z) >= band_units) continue;
+      const Cell2 key = metreCell(world.x(), world.y());
+      auto it = heights_.find(key);
+      if (it == heights_.end()) continue;
+      for (float z : it->second) {
+        if (std::abs(world.z() - z) <= kStepHeightUnits / 2) {
+          seen.insert({key, storeyOf(z)});
+          break;
+        }
+      }
+    }
+  }
+  return seen;
+}
+
 EpisodeAlignment alignEpisode(const Episode& episode) {
   EpisodeAlignment a;
   const auto& truth = episode.truth();
@@ -159,6 +186,17 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
 
   const ReachableCells cells(reachable);
   t.reachable_m2 = static_cast<double>(cells.count());
+  const Config& config = episode.config();
+  const CameraIntrinsics k =
+      CameraIntrinsics::fromHorizontalFov(config.world.width, config.world.height, config.world.fov_x_deg);
+  std::set<ReachableCells::CellStorey> in_view;
+  for (const FrameTruth& frame : truth) {
+    const auto seen = cells.inViewOf(frame, k, config.collision.height_low * config.world.eye_height_units,
+                                     config.slam.cloud_stride_px);
+    in_view.insert(seen.begin(), seen.end());
+  }
+  t.in_view_reachable_m2 = static_cast<double>(in_view.size());
+  t.in_view_reachable_percent = t.reachable_m2 > 0 ? 100.0 * t.in_view_reachable_m2 / t.reachable_m2 : 0;
   const EpisodeAlignment alignment = alignEpisode(episode);
   if (!alignment.aligned && !alignment.floor_aligned) return t;
   t.aligned = alignment.aligned;

@@ -103,7 +103,7 @@ std::string described(const nlohmann::json& v) {
 const char* const kReportNumbers[] = {"committed_steps", "rewinds", "wall_seconds", "frames_rendered",
                                       "first_translation_step", "final_turn_streak"};
 const char* const kGroundTruthNumbers[] = {
-    "observed_reachable_percent", "observed_reachable_m2", "penetration_free_steps", "penetrations",
+    "observed_reachable_percent", "observed_reachable_m2", "in_view_reachable_percent", "penetration_free_steps", "penetrations",
     "discarded_penetrations",     "false_rejections",      "missed_collisions",      "predicted_colliding",
     "truly_colliding",            "ate_percent",           "accuracy_median_m",      "accuracy_p90_m",
     "completeness_percent",       "clean_blocked_by_failed_region", "turn_steps",
@@ -210,7 +210,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
     ConfigSummary s;
     s.config = config;
     std::vector<std::vector<double>> curves, committed_curves, wall_curves;
-    Mean observed_percent, observed_m2, per_clean_step, penetrations, outside_world, clip_only, discarded, rewinds, false_rejections, missed,
+    Mean observed_percent, in_view_percent, observed_m2, per_clean_step, penetrations, outside_world, clip_only, discarded, rewinds, false_rejections, missed,
         ate, accuracy, completeness, wall, frames_per_second, committed_steps, per_step, left_spawn,
         penetrations_per_step, final_streak, blocked_by_failed, falsely_forced;
     std::map<std::string, Mean> stages;
@@ -226,6 +226,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
       const auto& j = r.report;
       const auto& g = field(j, "ground_truth");
       observed_percent.addField(g, "observed_reachable_percent");
+      in_view_percent.addField(g, "in_view_reachable_percent");
       observed_m2.addField(g, "observed_reachable_m2");
       if (hasNumber(g, "observed_reachable_m2") && hasNumber(g, "penetration_free_steps")) {
         const double clean = number(g, "penetration_free_steps");
@@ -292,6 +293,7 @@ std::vector<ConfigSummary> summarise(const std::vector<EvalResult>& results, con
       }
     }
     s.observed_percent = observed_percent.value();
+    s.in_view_percent = in_view_percent.value();
     s.observed_m2 = observed_m2.value();
     s.observed_m2_per_clean_step = per_clean_step.value();
     s.penetrations = penetrations.value();
@@ -447,7 +449,8 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
   std::ostringstream md;
   md << "# valerant evaluation\n\nMade by:\n\n```\n" << command << "\n```\n\n"
      << "Means over runs (maps x spawns) per configuration. Coverage is the share of the player-reachable floor "
-        "(1 m cells) the fused map observed; per clean step divides the observed area by the committed steps "
+        "(1 m cells) the fused map observed; in view, the share the final trajectory's frames saw in their true "
+        "depth, what a perfect map of the same path would observe; per clean step divides the observed area by the committed steps "
         "none of whose frames entered solid. Penetrations count committed frames whose player hull is inside "
         "solid brushes or whose centre is outside the playable world (past the world's bounds, or in a BSP leaf "
         "with no cluster: through an outer wall); the next column counts the latter alone, the one after it "
@@ -459,15 +462,15 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
         "failed-region memory F rejected although they stayed out of solid: together they show a run ending "
         "trapped. The last column counts, of the steps that turned in place or stalled, those at which every translation "
         "was rejected though one of them stayed out of solid: turns the tests forced on an open way.\n\n"
-     << "| config | runs | failed | reachable observed % | m2 | m2 / clean step | penetrations | "
+     << "| config | runs | failed | reachable observed % | reachable in view % | m2 | m2 / clean step | penetrations | "
         "of them outside the world | of them in invisible clips | discarded penetrations | rewinds | false rejections | missed collisions | verdict precision | verdict recall | ATE % | accuracy median m | "
         "completeness % | s / run | frames/s | left the spawn within " << kSpawnDepartureSteps << " steps % | "
         "penetrations / committed step | final turn streak (steps) | clean translations only F rejected | "
         "turns forced on an open way % |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& s : summaries) {
     md << "| " << s.config << " | " << s.runs << " | " << s.failed << " | " << mean(s.observed_percent) << " | "
-       << mean(s.observed_m2) << " | " << mean(s.observed_m2_per_clean_step, 2) << " | " << mean(s.penetrations)
+       << mean(s.in_view_percent) << " | " << mean(s.observed_m2) << " | " << mean(s.observed_m2_per_clean_step, 2) << " | " << mean(s.penetrations)
        << " | " << mean(s.penetrations_outside_world) << " | " << mean(s.penetrations_clip_only) << " | "
        << mean(s.discarded_penetrations) << " | " << mean(s.rewinds, 2) << " | " << mean(s.false_rejections)
        << " | " << mean(s.missed_collisions) << " | " << ratio(s.verdict_precision) << " | "
@@ -507,19 +510,20 @@ std::string markdownReport(const std::vector<ConfigSummary>& summaries, const st
      << "plots.json).\n\n## Runs\n\n"
      << "Top-down maps of every run, one sheet per configuration: ";
   for (const auto& s : summaries) md << "[" << s.config << "](" << plots_prefix << "topdowns_" << s.config << ".png) ";
-  md << "\n\n| map | spawn | config | reachable observed % | m2 | committed steps | penetrations | "
+  md << "\n\n| map | spawn | config | reachable observed % | reachable in view % | m2 | committed steps | penetrations | "
         "of them outside the world | of them in invisible clips | discarded penetrations | rewinds | "
         "first translation (step) | final turn streak |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     if (!r.ok) {
       md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | failed: " << cell(r.error)
-         << " | | | | | | | | | |\n";
+         << " | | | | | | | | | | |\n";
       continue;
     }
     const auto& g = field(r.report, "ground_truth");
     md << "| " << r.run.map << " | " << r.run.spawn << " | " << r.run.config << " | "
-       << recorded(g, "observed_reachable_percent", 1) << " | " << recorded(g, "observed_reachable_m2") << " | "
+       << recorded(g, "observed_reachable_percent", 1) << " | " << recorded(g, "in_view_reachable_percent", 1) << " | "
+       << recorded(g, "observed_reachable_m2") << " | "
        << recorded(r.report, "committed_steps") << " | " << recorded(g, "penetrations") << " | "
        << recorded(g, "penetrations_outside_world") << " | " << recorded(g, "penetrations_clip_only") << " | "
        << recorded(g, "discarded_penetrations") << " | " << recorded(r.report, "rewinds") << " | "

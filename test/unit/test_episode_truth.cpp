@@ -9,6 +9,8 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
+#include <set>
 
 #include "brush_world.h"
 #include "openarena_data.h"
@@ -51,6 +53,10 @@ TEST(EpisodeTruth, RotationOnlyEpisodeIsTiedToTheWorldByTheFloor) {
   const Eigen::Vector3d first = episode.trajectory().front().translation();
   EXPECT_TRUE(truth.map_to_world_metres.apply(first).isApprox(first, 1e-9));
   EXPECT_GT(truth.observed_reachable_m2, 10.0);
+  // The oracle map is the true depth at the same stride, so it observes what its frames
+  // had in view, within the floor tie's scale (5 %) and the estimated floor's band.
+  EXPECT_GT(truth.in_view_reachable_m2, 10.0);
+  EXPECT_NEAR(truth.observed_reachable_m2, truth.in_view_reachable_m2, 0.05 * truth.in_view_reachable_m2);
   // The progress lines' live count gives the same figure from the same alignment, and
   // counts nothing again while the map stays as it is.
   LiveCoverage live(reachable);
@@ -283,4 +289,45 @@ TEST(EpisodeTruth, AHullInNodrawPlayerClipAloneIsAnInvisiblePenetration) {
   EXPECT_EQ(events[0].frames, 3);
   EXPECT_EQ(events[0].frames_clip_only, 2);
   EXPECT_EQ(events[0].first_frame, 1);
+}
+
+// The floor in view of one committed frame, worked out by hand. A 4 x 4 image, fx = fy =
+// cx = cy = 2; the camera stands 50 units over the floor (floor_z 0) at the origin and
+// looks along +x (optical x = world -y, y = world -z, z = world +x). A pixel (u, v) has
+// the ray ((u - 2) / 2, (v - 2) / 2, 1), and a depth d (m) puts its point at
+// (0, 0, 50) + 32 d R ray. The reachable floor (1 m = 32 units cells): (3, 0) at z 0,
+// (3, 1) at z 20 (a step up), (3, 3) at z -5, (6, 0) at z 0.
+//   (2, 3), d 3.125: (100, 0, 0)    cell (3, 0), on its floor           -> in view, storey 0
+//   (1, 3), d 3.125: (100, 50, 0)   cell (3, 1), 20 under its floor     -> no (over half a step)
+//   (0, 3), d 3.125: (100, 100, 0)  cell (3, 3), 5 over its floor       -> in view, storey -1
+//   (3, 3), d 3.125: (100, -50, 0)  cell (3, -2), not reachable         -> no
+//   (2, 2), d 6.25:  (200, 0, 50)   cell (6, 0), but 50 over the frame's floor (a wall) -> no
+//   (2, 1): NaN (sky); every other pixel 0 (no depth)
+// At stride 2 only pixels (1, 1), (3, 1), (1, 3), (3, 3) are read: nothing in view.
+TEST(EpisodeTruth, TheFloorInViewIsWhatTheTrueDepthSeesOnReachableFloor) {
+  quake3::ReachableFloor reachable;
+  reachable.cells = {{112, 16, 0}, {112, 48, 20}, {112, 112, -5}, {208, 16, 0}};
+  const ReachableCells cells(reachable);
+  CameraIntrinsics k;
+  k.width = k.height = 4;
+  k.fx = k.fy = k.cx = k.cy = 2;
+  FrameTruth frame;
+  Eigen::Matrix3d r;
+  r << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  frame.camera_to_world.linear() = r;
+  frame.camera_to_world.translation() = Eigen::Vector3d(0, 0, 50);
+  frame.floor_z = 0;
+  frame.depth_m = cv::Mat(4, 4, CV_32F, cv::Scalar(0));
+  frame.depth_m.at<float>(3, 2) = 3.125f;
+  frame.depth_m.at<float>(3, 1) = 3.125f;
+  frame.depth_m.at<float>(3, 0) = 3.125f;
+  frame.depth_m.at<float>(3, 3) = 3.125f;
+  frame.depth_m.at<float>(2, 2) = 6.25f;
+  frame.depth_m.at<float>(1, 2) = std::numeric_limits<float>::quiet_NaN();
+  const double band = 9;  // eta_low 0.18 of a 50-unit eye
+  const std::set<ReachableCells::CellStorey> expected = {{{3, 0}, 0}, {{3, 3}, -1}};
+  EXPECT_EQ(cells.inViewOf(frame, k, band, 1), expected);
+  EXPECT_TRUE(cells.inViewOf(frame, k, band, 2).empty());
+  frame.depth_m = cv::Mat();
+  EXPECT_TRUE(cells.inViewOf(frame, k, band, 1).empty());
 }

@@ -150,7 +150,11 @@ TEST(EvalReport, MeansPerConfiguration) {
     r.report["ground_truth"]["discarded_penetrations"] = frames;
     return r;
   };
-  std::vector<EvalResult> results = {discarded(result("full", 20, 0, 4), 4), discarded(result("full", 30, 0, 5), 0),
+  // The floor in view: recorded by one full run (40 %) only, so the mean is 40 and the
+  // rows of the others show "-".
+  auto in_view = result("full", 30, 0, 5);
+  in_view.report["ground_truth"]["in_view_reachable_percent"] = 40.0;
+  std::vector<EvalResult> results = {discarded(result("full", 20, 0, 4), 4), discarded(in_view, 0),
                                      nothing, result("random", 10, 6, 2, {10}), result("random", 8, 0, 2)};
   EvalResult failed;
   failed.run = {"m", 1, "random", "/o"};
@@ -160,6 +164,8 @@ TEST(EvalReport, MeansPerConfiguration) {
   ASSERT_EQ(s.size(), 2u);
   EXPECT_EQ(s[0].runs, 3);
   EXPECT_DOUBLE_EQ(s[0].observed_percent, 50.0 / 3);
+  EXPECT_DOUBLE_EQ(s[0].in_view_percent, 40.0);
+  EXPECT_DOUBLE_EQ(s[1].in_view_percent, -1.0);
   EXPECT_DOUBLE_EQ(s[0].observed_m2_per_clean_step, (200.0 / 4 + 300.0 / 5 + 0.0) / 3);
   EXPECT_EQ(s[0].observed_by_step, (std::vector<double>{(10 + 15 + 0) / 3.0, (20 + 30 + 0) / 3.0}));
   EXPECT_DOUBLE_EQ(s[0].frames_per_second, 10.0);
@@ -170,12 +176,14 @@ TEST(EvalReport, MeansPerConfiguration) {
   EXPECT_DOUBLE_EQ(s[1].discarded_penetrations, -1.0);  // no random report records them
   EXPECT_EQ(s[1].observed_by_step, (std::vector<double>{(10 + 4) / 2.0, (10 + 8) / 2.0}));
   const std::string md = markdownReport(s, results, "cmd", "");
-  EXPECT_NE(md.find("| full | 3 | 0 | 16.7 |"), std::string::npos);
+  EXPECT_NE(md.find("| full | 3 | 0 | 16.7 | 40.0 |"), std::string::npos);
+  EXPECT_NE(md.find("| random | 2 | 1 | 9.0 | - |"), std::string::npos);
   EXPECT_NE(md.find("| 0.0 | - | - | 2.0 | 1.00 |"), std::string::npos);  // full: penetrations, outside, clip, discarded, rewinds
   EXPECT_NE(md.find("| 45.00 | 3.0 | - | - | - | 1.00 |"), std::string::npos);  // random: none recorded
   // These reports do not record committed_steps: "-", not 0.
-  EXPECT_NE(md.find("| m | 0 | full | 20.0 | 200 | - | 0 | - | - | 4 | 1 |"), std::string::npos);
-  EXPECT_NE(md.find("| m | 0 | full | 0.0 | 0 | - | 0 | - | - | - | 1 |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 0 | full | 20.0 | - | 200 | - | 0 | - | - | 4 | 1 |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 0 | full | 30.0 | 40.0 | 300 | - | 0 | - | - | 0 | 1 |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 0 | full | 0.0 | - | 0 | - | 0 | - | - | - | 1 |"), std::string::npos);
   // No full report lists penetration events: the section says how many predate them.
   EXPECT_NE(md.find("3 run(s) have a report.json written before"), std::string::npos);
   EXPECT_NE(md.find("failed: no report.json"), std::string::npos);
@@ -487,8 +495,8 @@ TEST(EvalReport, FiguresAReportDoesNotRecordAreBlankNotZero) {
   EXPECT_NE(md.find("| full | 2 | 1 | 10.0 | - | - | - | - | - | - | - | - | - | - | - | - | - | - | - | - |"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("| m | 0 | full | - | - | - | - | - | - | - | - |"), std::string::npos);
-  EXPECT_NE(md.find("| m | 1 | full | 10.0 | - | - | - | - | - | - | - |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 0 | full | - | - | - | - | - | - | - | - | - |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 1 | full | 10.0 | - | - | - | - | - | - | - | - |"), std::string::npos);
   EXPECT_NE(md.find("failed: /o/report.json: field 'x\"y\\|z' is null | | | | | | | |"), std::string::npos);
   EXPECT_NE(md.find("full: (not recorded) penetrating committed frames per run"), std::string::npos);
   EXPECT_EQ(findings(s, "full").size(), 1u);
@@ -537,8 +545,8 @@ TEST(EvalReport, PenetrationsOutsideTheWorldAndInClipsAreAveragedAndListed) {
   EXPECT_DOUBLE_EQ(s[0].penetrations_outside_world, 2.0);
   EXPECT_DOUBLE_EQ(s[0].penetrations_clip_only, 1.5);
   const std::string md = markdownReport(s, results, "cmd", "");
-  EXPECT_NE(md.find("| m | 0 | full | - | - | - | 6 | 4 | 1 | - | - |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| m | 2 | full | - | - | - | 1 | - | - | - | - |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| m | 0 | full | - | - | - | - | 6 | 4 | 1 | - | - |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| m | 2 | full | - | - | - | - | 1 | - | - | - | - |"), std::string::npos) << md;
 }
 
 TEST(EvalReport, RunsThatLeaveTheirSpawnWithinFiveSteps) {
@@ -559,9 +567,9 @@ TEST(EvalReport, RunsThatLeaveTheirSpawnWithinFiveSteps) {
   const std::string md = markdownReport(s, results, "cmd", "");
   EXPECT_NE(md.find("| left the spawn within 5 steps % |"), std::string::npos);
   EXPECT_NE(md.find("| - | 50 | - | - | - | - |\n"), std::string::npos) << md;  // frames/s unrecorded, the share, then unrecorded
-  EXPECT_NE(md.find("| m | 1 | full | - | - | - | - | - | - | - | 0 | 5 |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| m | 3 | full | - | - | - | - | - | - | - | 0 | none |"), std::string::npos);
-  EXPECT_NE(md.find("| m | 4 | full | - | - | - | - | - | - | - | 0 | - |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 1 | full | - | - | - | - | - | - | - | - | 0 | 5 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| m | 3 | full | - | - | - | - | - | - | - | - | 0 | none |"), std::string::npos);
+  EXPECT_NE(md.find("| m | 4 | full | - | - | - | - | - | - | - | - | 0 | - |"), std::string::npos);
   const auto [header, row] = csvHeaderAndFirstRow(results, "valerant_departure_results.csv");
   EXPECT_NE(header.find(",rewinds,first_translation_step,"), std::string::npos);
   EXPECT_EQ(row.substr(0, 15), "m,0,full,1,,0,1");
@@ -606,7 +614,7 @@ TEST(EvalReport, PenetrationsPerCommittedStepAndHowRunsEndTrapped) {
             std::string::npos) << md;
   EXPECT_NE(md.find("| 1.00 | 70.0 | 328.0 | 75.0 |\n"), std::string::npos) << md;
   EXPECT_NE(md.find("| - | 140 |\n"), std::string::npos) << md;  // run 0: first translation unrecorded, its streak
-  EXPECT_NE(md.find("| m | 2 | full | - | - | - | 9 | - | - | - | - | - | - |\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| m | 2 | full | - | - | - | - | 9 | - | - | - | - | - | - |\n"), std::string::npos) << md;
   const auto [header, row] = csvHeaderAndFirstRow(results, "valerant_trap_results.csv");
   EXPECT_NE(header.find(",frames_rendered,final_turn_streak,clean_blocked_by_failed_region,turn_steps,"
                         "falsely_forced_turns,error"),

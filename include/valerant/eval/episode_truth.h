@@ -10,6 +10,8 @@
 // camera-to-floor distance in map units against the engine's eye height. Floor points of the map
 // (|h| < eta_low) then mark 1 m cells. A reachable 1 m cell counts as observed when a
 // floor point falls in it within half a step height of a reachable floor height there.
+// The same test on the committed frames' true depth gives the floor in view of the
+// path, whatever the SLAM made of it.
 #include <Eigen/Geometry>
 #include <limits>
 #include <map>
@@ -18,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "valerant/common/camera.h"
 #include "valerant/eval/trajectory_metrics.h"
 #include "valerant/explore/episode.h"
 #include "valerant/world/quake3/reachable_floor.h"
@@ -41,6 +44,14 @@ struct EpisodeTruth {
   double reachable_m2 = 0;
   double observed_reachable_m2 = 0;
   double observed_reachable_percent = 0;
+  // The reachable floor the final trajectory's committed frames had in view: the
+  // union of ReachableCells::inViewOf over the frames that keep their depth (every
+  // kCommittedDepthStride-th), at the oracle SLAM's cloud stride. Against the observed
+  // figure it splits a short coverage into where the agent went (this) and what the
+  // map made of what it saw (observed / in view). Frames of steps a rewind discarded
+  // are not in it, though with dead_pocket.keep_map their keyframes stay in the map.
+  double in_view_reachable_m2 = 0;
+  double in_view_reachable_percent = 0;
   // observed_reachable_percent of the final map's keyframes up to each step (one per
   // history entry; a rewound step's value counts the keyframes that replaced its own).
   std::vector<double> observed_percent_by_step;
@@ -104,6 +115,14 @@ class ReachableCells {
   // The pairs the floor points (|h| < `band`) of `keyframe` observe, its points taken to
   // the BSP frame in metres by `map_to_world`.
   std::set<CellStorey> observedBy(const FusedKeyframe& keyframe, const Sim3& map_to_world, double band) const;
+  // The pairs the true depth of one committed frame sees: every `stride`-th pixel per
+  // axis, taken to the BSP frame by the frame's true pose, that lies less than
+  // `band_units` over or under the frame's own floor (the test observedBy applies to a
+  // map point's h) and within half a step height of a reachable floor height. No SLAM
+  // in between: what a perfect map built from these frames would observe. None for a
+  // frame without depth.
+  std::set<CellStorey> inViewOf(const FrameTruth& frame, const CameraIntrinsics& k, double band_units,
+                                int stride) const;
 
  private:
   static int storeyOf(float z_units);

@@ -36,6 +36,9 @@ struct ConfigSummary {
   std::string config;
   int runs = 0, failed = 0;
   double observed_percent = -1, observed_m2 = -1, observed_m2_per_clean_step = -1;
+  // The reachable floor the final trajectory's frames had in view (episode_truth.h):
+  // what a perfect map of the same path would observe.
+  double in_view_percent = -1;
   double penetrations = -1, rewinds = -1, false_rejections = -1, missed_collisions = -1;
   // Of the penetrations, the frames whose hull centre was outside the playable world
   // (the rest, and some of these, had the hull inside solid: episode_truth.h).
