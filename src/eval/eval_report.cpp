@@ -103,11 +103,11 @@ std::string described(const nlohmann::json& v) {
 const char* const kReportNumbers[] = {"committed_steps", "rewinds", "wall_seconds", "frames_rendered",
                                       "first_translation_step", "final_turn_streak"};
 const char* const kGroundTruthNumbers[] = {
-    "observed_reachable_percent", "observed_reachable_m2", "in_view_reachable_percent", "penetration_free_steps", "penetrations",
-    "discarded_penetrations",     "false_rejections",      "missed_collisions",      "predicted_colliding",
-    "truly_colliding",            "ate_percent",           "accuracy_median_m",      "accuracy_p90_m",
-    "completeness_percent",       "clean_blocked_by_failed_region", "turn_steps",
-    "falsely_forced_turns"};
+    "observed_reachable_percent", "observed_reachable_m2", "in_view_reachable_percent", "penetration_free_steps",
+    "penetrations",               "discarded_penetrations", "false_rejections",         "missed_collisions",
+    "predicted_colliding",        "truly_colliding",        "ate_percent",              "accuracy_median_m",
+    "accuracy_p90_m",             "completeness_percent",   "clean_blocked_by_failed_region",
+    "turn_steps",                 "falsely_forced_turns"};
 
 // The mean of `curves` at every index up to the longest; a curve that ended keeps its
 // last value, so the mean is over every curve at every index and never drops because
