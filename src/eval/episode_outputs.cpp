@@ -19,6 +19,7 @@
 #include "valerant/explore/goal_map_image.h"
 #include "valerant/explore/topdown_image.h"
 #include "valerant/map/run_exports.h"
+#include "valerant/map/eye_height_drift.h"
 #include "valerant/map/run_map.h"
 #include "valerant/world/quake3/reachable_floor.h"
 #include "valerant/world/quake3/surface_samples.h"
@@ -251,6 +252,12 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   report["stuck"] = episode.stuck();  // ended early: a stall with no rewind left (episode.h)
   report["failed_cells"] = episode.failed().cells().size();
   report["map_points"] = cloud.size();
+  // The map's scale where each keyframe was made, by the eye height (eye_height_drift.h).
+  const EyeHeightDrift drift = eyeHeightDrift(episode.map().keyframes(), episode.anchorEyeHeight());
+  report["eye_height_drift"] = {{"measured_keyframes", drift.measured_keyframes},
+                                {"min_ratio", drift.min_ratio},
+                                {"max_ratio", drift.max_ratio},
+                                {"last_ratio", drift.last_ratio}};
   report["stage_seconds"] = toJson(total);
   report["wall_seconds"] = wall;
   // Counted from the frames' truth: null (not recorded) without it.

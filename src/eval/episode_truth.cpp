@@ -78,21 +78,22 @@ ReachableCells::ReachableCells(const quake3::ReachableFloor& reachable) {
 
 int ReachableCells::storeyOf(float z_units) { return static_cast<int>(std::floor(z_units / (2 * kStepHeightUnits))); }
 
+std::optional<ReachableCells::CellStorey> ReachableCells::floorAt(const Eigen::Vector3d& world_units) const {
+  const Cell2 key = metreCell(world_units.x(), world_units.y());
+  const auto it = heights_.find(key);
+  if (it == heights_.end()) return std::nullopt;
+  for (float z : it->second)
+    if (std::abs(world_units.z() - z) <= kStepHeightUnits / 2) return CellStorey{key, storeyOf(z)};
+  return std::nullopt;
+}
+
 std::set<ReachableCells::CellStorey> ReachableCells::observedBy(const FusedKeyframe& keyframe, const Sim3& map_to_world,
                                                                 double band) const {
   std::set<CellStorey> seen;
   for (const auto& p : keyframe.points) {
     if (std::abs(p.h) >= band) continue;
-    const Eigen::Vector3d world = map_to_world.apply(p.position.cast<double>()) * quake3::kUnitsPerMetre;
-    const Cell2 key = metreCell(world.x(), world.y());
-    auto it = heights_.find(key);
-    if (it == heights_.end()) continue;
-    for (float z : it->second) {
-      if (std::abs(world.z() - z) <= kStepHeightUnits / 2) {
-        seen.insert({key, storeyOf(z)});
-        break;
-      }
-    }
+    const auto pair = floorAt(map_to_world.apply(p.position.cast<double>()) * quake3::kUnitsPerMetre);
+    if (pair) seen.insert(*pair);
   }
   return seen;
 }
@@ -110,15 +111,8 @@ std::set<ReachableCells::CellStorey> ReachableCells::inViewOf(const FrameTruth& 
       const Eigen::Vector3d ray((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
       const Eigen::Vector3d world = pose * (d * quake3::kUnitsPerMetre * ray);
       if (std::abs(world.z() - frame.floor_z) >= band_units) continue;
-      const Cell2 key = metreCell(world.x(), world.y());
-      auto it = heights_.find(key);
-      if (it == heights_.end()) continue;
-      for (float z : it->second) {
-        if (std::abs(world.z() - z) <= kStepHeightUnits / 2) {
-          seen.insert({key, storeyOf(z)});
-          break;
-        }
-      }
+      const auto pair = floorAt(world);
+      if (pair) seen.insert(*pair);
     }
   }
   return seen;

@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -126,6 +127,9 @@ class ReachableCells {
 
  private:
   static int storeyOf(float z_units);
+  // The reachable pair a point of the BSP frame (game units) lies on: its 1 m cell, if
+  // a reachable floor height there is within half a step height of it.
+  std::optional<CellStorey> floorAt(const Eigen::Vector3d& world_units) const;
   std::map<Cell2, std::vector<float>> heights_;
   size_t count_ = 0;
 };
