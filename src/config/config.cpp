@@ -371,7 +371,7 @@ void readLoopClosure(Section s, LoopClosureConfig& l) {
   s.number("min_age_keyframes", l.min_age_keyframes, 1, 1000000);
   s.number("radius_eye_heights", l.radius_eye_heights, 0.0, 1e4);
   s.number("max_view_angle_deg", l.max_view_angle_deg, 0.0, 180.0);
-  s.number("max_candidates", l.max_candidates, 1, 1000);
+  s.number("max_candidates", l.max_candidates, 0, 1000);
   s.number("features", l.features, 10, 100000);
   s.number("ratio", l.ratio, 0.01f, 1.f);
   s.number("max_distance", l.max_distance, 0.f, 256.f);
@@ -382,6 +382,8 @@ void readLoopClosure(Section s, LoopClosureConfig& l) {
   s.number("max_rotation_deg", l.max_rotation_deg, 0.0, 180.0);
   s.number("max_scale_ratio", l.max_scale_ratio, 1.0, 100.0);
   s.number("max_iterations", l.max_iterations, 1, 10000);
+  s.number("eye_height_weight", l.eye_height_weight, 0.0, 1e6);
+  s.number("eye_height_tolerance", l.eye_height_tolerance, 0.0, 10.0);
   s.finish();
 }
 

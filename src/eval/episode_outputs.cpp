@@ -121,6 +121,7 @@ nlohmann::json loopClosures(const Episode& episode) {
                         {"rejected_by_reason", nlohmann::json::object()}, {"closures", nlohmann::json::array()}};
   if (!closure) return out;
   out["keyframes"] = closure->keyframes();
+  out["scale_corrections"] = closure->scaleCorrections();  // loop_closure.eye_height_weight
   const size_t n = std::min(closure->odometry().size(), episode.truth().size());
   if (n > 0) {
     std::vector<Eigen::Isometry3d> truth_metres;

@@ -44,6 +44,7 @@ bool LoopClosure::commit(const BranchResult& result, int step, double eye_height
   for (size_t r = 0; r < result.keyframes.size(); ++r) {
     const KeyframeCloud& kf = result.keyframes[r];
     Node node{kf.camera_to_map, before, nullptr};
+    if (result.keyframe_floors[r].known) node.kappa = result.keyframe_floors[r].cameraHeight();
     const long local = static_cast<long>(kf.frame) - static_cast<long>(first_frame);
     if (local >= 0 && local < static_cast<long>(result.rollout.frames.size()))
       node.features = std::make_shared<const KeyframeFeatures>(
@@ -68,10 +69,23 @@ bool LoopClosure::commit(const BranchResult& result, int step, double eye_height
 
   bool closed = false;
   for (size_t j = first_node; j < nodes_.size(); ++j) closed |= detect(j, step, eye_height);
-  if (closed) optimise(eye_height);
-  if (closed || !isIdentity(before))
-    rewrite(closed ? 0 : first_keyframe, closed ? 0 : first_frame, map, trajectory);
-  return closed;
+  const bool rescaled = !closed && scaleDrifted(first_node, eye_height);
+  if (closed || rescaled) optimise(eye_height);
+  scale_corrections_ += rescaled;
+  const bool moved = closed || rescaled;
+  if (moved || !isIdentity(before)) rewrite(moved ? 0 : first_keyframe, moved ? 0 : first_frame, map, trajectory);
+  return moved;
+}
+
+bool LoopClosure::scaleDrifted(size_t first, double eye_height) const {
+  if (!estimate_scale_ || !(config_.eye_height_weight > 0) || !(eye_height > 0)) return false;
+  std::vector<double> off;  // |ln(corrected kappa / kappa_0)| of the new nodes
+  for (size_t j = std::max<size_t>(first, 1); j < nodes_.size(); ++j)
+    if (nodes_[j].kappa > 0) off.push_back(std::abs(std::log(pose(j).scale * nodes_[j].kappa / eye_height)));
+  if (off.empty()) return false;
+  const auto mid = off.begin() + static_cast<std::ptrdiff_t>(off.size() / 2);
+  std::nth_element(off.begin(), mid, off.end());
+  return *mid > std::log(1 + config_.eye_height_tolerance);
 }
 
 bool LoopClosure::detect(size_t j, int step, double eye_height) {
@@ -114,8 +128,14 @@ void LoopClosure::optimise(double eye_height) {
       edges.push_back(
           {i - 1, i, Similarity3::fromIsometry(nodes_[i - 1].odometry).inverse() * Similarity3::fromIsometry(nodes_[i].odometry)});
   }
-  const std::vector<Similarity3> optimised =
-      optimisePoseGraph(initial, edges, PoseGraphOptions{estimate_scale_, eye_height, config_.max_iterations});
+  PoseGraphOptions options{estimate_scale_, eye_height, config_.max_iterations};
+  if (config_.eye_height_weight > 0 && eye_height > 0) {
+    options.scale_prior_weight = config_.eye_height_weight;
+    for (const Node& node : nodes_)
+      options.log_scale_targets.push_back(node.kappa > 0 ? std::log(eye_height / node.kappa)
+                                                         : std::numeric_limits<double>::quiet_NaN());
+  }
+  const std::vector<Similarity3> optimised = optimisePoseGraph(initial, edges, options);
   for (size_t i = 0; i < nodes_.size(); ++i)
     nodes_[i].correction = optimised[i] * Similarity3::fromIsometry(nodes_[i].odometry).inverse();
 }

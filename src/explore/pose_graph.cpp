@@ -4,6 +4,7 @@
 #include <ceres/rotation.h>
 
 #include <array>
+#include <cmath>
 #include <string>
 
 #include "valerant/common/error.h"
@@ -49,11 +50,24 @@ struct EdgeResidual {
   bool with_scale_;
 };
 
+struct ScalePriorResidual {
+  ScalePriorResidual(double target, double weight) : target_(target), weight_(weight) {}
+  template <typename T>
+  bool operator()(const T* log_scale, T* residual) const {
+    residual[0] = T(weight_) * (log_scale[0] - T(target_));
+    return true;
+  }
+  double target_, weight_;
+};
+
 }  // namespace
 
 std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initial, const std::vector<PoseGraphEdge>& edges,
                                     const PoseGraphOptions& options) {
   if (initial.empty()) throw InputError("pose graph", "has no node");
+  if (!options.log_scale_targets.empty() && options.log_scale_targets.size() != initial.size())
+    throw InputError("pose graph scale targets", std::to_string(options.log_scale_targets.size()) + " for " +
+                                                     std::to_string(initial.size()) + " nodes");
   std::vector<NodeBlocks> nodes(initial.size());
   for (size_t i = 0; i < initial.size(); ++i) {
     const Similarity3& s = initial[i];
@@ -72,6 +86,14 @@ std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initi
                                  new EdgeResidual(e.relative, options.translation_unit, options.estimate_scale)),
                              nullptr, a.rotation.data(), a.translation.data(), &a.log_scale, b.rotation.data(),
                              b.translation.data(), &b.log_scale);
+  }
+  const bool priors = options.estimate_scale && options.scale_prior_weight > 0;
+  for (size_t i = 1; priors && i < options.log_scale_targets.size(); ++i) {
+    const double target = options.log_scale_targets[i];
+    if (!std::isfinite(target) || !problem.HasParameterBlock(&nodes[i].log_scale)) continue;
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ScalePriorResidual, 1, 1>(
+                                 new ScalePriorResidual(target, options.scale_prior_weight)),
+                             new ceres::HuberLoss(options.scale_prior_weight * std::log(1.5)), &nodes[i].log_scale);
   }
   for (size_t i = 0; i < nodes.size(); ++i) {
     NodeBlocks& n = nodes[i];

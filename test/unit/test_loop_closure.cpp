@@ -119,6 +119,34 @@ TEST(PoseGraph, Sim3AbsorbsAMonocularScaleDriftThatSE3CannotClose) {
   EXPECT_LT(sim3.back().translation.norm(), se3.back().translation.norm()) << se3.back().translation.norm();
 }
 
+// Node 1 one unit from node 0 by an odometry edge of scale 1, its scale held to
+// ln 0.8 (tau): the edge's ln-scale residual x and the prior's w (x - tau) give
+// x = w^2 tau / (1 + w^2): s = 0.8^(1/2) at w = 1, 0.8^(4/5) at w = 2; the translation
+// residual does not involve s_1, so node 1 stays at x = 1. A target far off (ln 0.2,
+// past the Huber corner ln 1.5) pulls with a constant force: x + a = 0, s = 1 / 1.5.
+TEST(PoseGraph, AScalePriorPullsTheScaleAgainstTheEdges) {
+  const std::vector<Similarity3> initial = {Similarity3{}, at(1, 0, 0)};
+  const std::vector<PoseGraphEdge> edges = {{0, 1, at(1, 0, 0)}};
+  auto scaleWith = [&](double target, double weight) {
+    PoseGraphOptions options{true, 1.0, 100};
+    options.log_scale_targets = {std::nan(""), std::log(target)};
+    options.scale_prior_weight = weight;
+    const auto out = optimisePoseGraph(initial, edges, options);
+    EXPECT_NEAR(out[1].translation.x(), 1, 1e-6);
+    EXPECT_NEAR(out[0].scale, 1, 1e-12);  // the gauge
+    return out[1].scale;
+  };
+  // Within Ceres' stopping tolerances (about 1e-5 here).
+  EXPECT_NEAR(scaleWith(0.8, 1), std::sqrt(0.8), 1e-4);
+  EXPECT_NEAR(scaleWith(0.8, 2), std::pow(0.8, 0.8), 1e-4);
+  EXPECT_NEAR(scaleWith(0.2, 1), 1 / 1.5, 1e-3);
+  EXPECT_NEAR(scaleWith(0.8, 0), 1, 1e-9);  // weight 0: no prior
+  PoseGraphOptions wrong{true, 1.0, 100};
+  wrong.log_scale_targets = {0.0};  // one target for two nodes
+  wrong.scale_prior_weight = 1;
+  EXPECT_THROW(optimisePoseGraph(initial, edges, wrong), InputError);
+}
+
 TEST(PoseGraph, AnEdgeToAMissingNodeIsAnError) {
   EXPECT_THROW(optimisePoseGraph({Similarity3{}, Similarity3{}}, {{0, 2, Similarity3{}}}, PoseGraphOptions{}), InputError);
   EXPECT_THROW(optimisePoseGraph({}, {}, PoseGraphOptions{}), InputError);
@@ -322,6 +350,57 @@ TEST(LoopClosure, AReturnToAMappedPlaceCorrectsThePathAndARewindUndoesIt) {
   EXPECT_EQ(closure.made(), 0u);
 }
 
+namespace {
+// One keyframe per frame along the wall at true x = 0.25 i, each with its floor
+// `kappa` SLAM units under the camera; no images (no loop candidates).
+BranchResult keyframesAt(const std::vector<double>& xs, double kappa, size_t first_frame) {
+  BranchResult r;
+  for (size_t i = 0; i < xs.size(); ++i) {
+    const Eigen::Isometry3d pose = atX(xs[i]);
+    r.poses.push_back(pose);
+    r.keyframes.push_back(wallCloud(pose, 1, static_cast<int>(first_frame + i)));
+    FloorPlane floor;
+    floor.c = pose.translation();
+    floor.q = floor.c + Eigen::Vector3d(0, kappa, 0);
+    floor.n = {0, -1, 0};
+    r.keyframe_floors.push_back(floor);
+  }
+  return r;
+}
+}  // namespace
+
+// The start's keyframe stands 1 over its floor (kappa_0 = 1); the next commit's one keyframe
+// 0.8 over its own: the SLAM's scale shrank by 0.8, 0.22 in ln against the tolerance's
+// ln 1.1 = 0.095, so the commit corrects the scale alone (no loop candidate, max_candidates
+// 0). By PoseGraph.AScalePriorPullsTheScaleAgainstTheEdges at w = 1 its node takes scale
+// (1 / 0.8)^(1/2) = 1.118, and the map's keyframe with it. Off (weight 0), or within the
+// tolerance (0.95 over its floor), nothing moves.
+TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
+  auto run = [](double weight, double kappa) {
+    Config config;
+    config.loop_closure.enabled = true;
+    config.loop_closure.max_candidates = 0;
+    config.loop_closure.eye_height_weight = weight;
+    LoopClosure closure(config.loop_closure, kCamera, true);
+    MapFusion map(config.map, config.collision);
+    std::vector<Eigen::Isometry3d> trajectory;
+    const BranchResult start = keyframesAt({0}, 1.0, 0);
+    fuse(start, map, trajectory);
+    EXPECT_FALSE(closure.commit(start, 0, 1.0, map, trajectory));
+    const BranchResult next = keyframesAt({0.25}, kappa, 1);
+    fuse(next, map, trajectory);
+    const bool moved = closure.commit(next, 1, 1.0, map, trajectory);
+    EXPECT_EQ(closure.scaleCorrections(), moved ? 1u : 0u);
+    EXPECT_EQ(closure.made(), 0u);
+    return std::pair{moved, closure.correction(1).scale};
+  };
+  const auto [moved, scale] = run(1, 0.8);
+  EXPECT_TRUE(moved);
+  EXPECT_NEAR(scale, std::sqrt(1 / 0.8), 1e-4);
+  EXPECT_EQ(run(0, 0.8), std::pair(false, 1.0));
+  EXPECT_EQ(run(1, 0.95), std::pair(false, 1.0));
+}
+
 TEST(LoopClosure, ACommitThatDoesNotEndTheTrajectoryIsAnError) {
   LoopClosure closure(LoopClosureConfig{}, kCamera, true);
   Config config;
@@ -368,6 +447,8 @@ TEST(LoopClosureConfig, ShippedOffWithTheBuiltInValuesAndCheckedLikeTheRest) {
   EXPECT_EQ(c.max_rotation_deg, built_in.max_rotation_deg);
   EXPECT_EQ(c.max_scale_ratio, built_in.max_scale_ratio);
   EXPECT_EQ(c.max_iterations, built_in.max_iterations);
+  EXPECT_EQ(c.eye_height_weight, built_in.eye_height_weight);  // 0: off
+  EXPECT_EQ(c.eye_height_tolerance, built_in.eye_height_tolerance);
   const auto errorOf = [&](const std::string& assignment) {
     ConfigDocument d = ConfigDocument::load(shipped);
     d.setAssignment(assignment, "--set " + assignment);
@@ -383,5 +464,7 @@ TEST(LoopClosureConfig, ShippedOffWithTheBuiltInValuesAndCheckedLikeTheRest) {
   EXPECT_EQ(errorOf("loop_closure.enabled=maybe"),
             "--set loop_closure.enabled=maybe: loop_closure.enabled: expected true or false, got 'maybe'");
   EXPECT_NE(errorOf("loop_closure.min_inliers=100").find("loop_closure.min_inliers: must not exceed"), std::string::npos);
+  EXPECT_EQ(errorOf("loop_closure.eye_height_weight=-1"),
+            "--set loop_closure.eye_height_weight=-1: loop_closure.eye_height_weight: value -1 outside [0, 1e+06]");
   EXPECT_EQ(errorOf("loop_closure.enabled=true"), "");
 }

@@ -326,6 +326,15 @@ struct LoopClosureConfig {
   double max_rotation_deg = 20;       // ... and turn it this much
   double max_scale_ratio = 1.5;       // ... and rescale it by at most this factor (either way)
   int max_iterations = 50;            // Ceres iterations of one pose graph optimisation
+  // [ours] > 0: every keyframe node of a Sim(3) graph also holds its scale s_i to the
+  // anchor's eye height, a residual w ln(s_i kappa_i / kappa_0) (kappa_i its camera-to-floor
+  // distance in SLAM units): the camera is an eye one known height over its floor, and the
+  // visual SLAM's scale drifts 1.1 to 14 times over 60 steps (docs/floor_in_view.md).
+  // 0 = off: the graph holds scale only by its edges.
+  double eye_height_weight = 0;
+  // [ours] ... and a commit whose new keyframes' corrected eye heights are off kappa_0 by
+  // more than this share (their median) optimises the graph, as a closure does.
+  double eye_height_tolerance = 0.1;
 };
 
 struct Config {

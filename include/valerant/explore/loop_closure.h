@@ -12,9 +12,17 @@
 // (pose_graph.h) and rewrites the whole map and trajectory from the new corrections.
 // Frames take the correction of the latest keyframe at or before them.
 //
+// [ours] The eye height (loop_closure.eye_height_weight > 0, a Sim(3) graph): each node
+// also keeps its keyframe's camera-to-floor distance kappa_i in SLAM units, and the graph
+// holds its scale to kappa_0 / kappa_i (pose_graph.h). A commit whose new keyframes
+// stand, by the latest correction, more than eye_height_tolerance off kappa_0 (their
+// median) optimises and rewrites the map as a closure does (a scale correction): the
+// visual SLAM's scale drifts, and the floor under each keyframe measures by how much.
+//
 // Only commits reach it, so candidate branches never close loops; a copy of it is
 // part of every checkpoint, so a rewind to before a closure undoes the closure.
 #include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -45,8 +53,9 @@ class LoopClosure {
   // After the episode fused `result`'s keyframes of known floor into `map` (its last
   // ones) and appended its poses to `trajectory`, both as the SLAM made them: maps them
   // into the corrected frame, looks for loops from its keyframes and, when it found
-  // any, optimises and rewrites all of `map` and `trajectory`. `eye_height`: one eye
-  // height in map units. Returns true when earlier keyframes and frames moved.
+  // any, optimises and rewrites all of `map` and `trajectory`; so does a scale correction.
+  // `eye_height`: one eye height in map units (kappa_0). Returns true when earlier
+  // keyframes and frames moved.
   bool commit(const BranchResult& result, int step, double eye_height, MapFusion& map,
               std::vector<Eigen::Isometry3d>& trajectory);
   // Puts this state's map and trajectory back into the episode's (after a rewind).
@@ -59,6 +68,8 @@ class LoopClosure {
   // The committed frames' poses as the SLAM made them (the trajectory without closures).
   const std::vector<Eigen::Isometry3d>& odometry() const { return odometry_; }
   size_t made() const { return loops_.size(); }
+  // Commits that optimised the graph for the eye height alone.
+  size_t scaleCorrections() const { return scale_corrections_; }
   size_t keyframes() const { return nodes_.size(); }
   // The correction of a committed keyframe (pose graph node).
   const Similarity3& correction(size_t keyframe) const { return nodes_.at(keyframe).correction; }
@@ -68,6 +79,7 @@ class LoopClosure {
     Eigen::Isometry3d odometry;  // the SLAM's camera_to_map
     Similarity3 correction;             // SLAM frame -> map frame
     std::shared_ptr<const KeyframeFeatures> features;  // null without an image
+    double kappa = std::numeric_limits<double>::quiet_NaN();  // camera-to-floor, SLAM units; NaN: floor unknown
   };
   Similarity3 pose(size_t node) const { return nodes_[node].correction * Similarity3::fromIsometry(nodes_[node].odometry); }
   Similarity3 latestCorrection() const { return nodes_.empty() ? Similarity3{} : nodes_.back().correction; }
@@ -75,6 +87,8 @@ class LoopClosure {
   // Verifies the candidates of node `j`; true when one became a loop edge.
   bool detect(size_t j, int step, double eye_height);
   void optimise(double eye_height);
+  // Whether the nodes from `first` stand off `eye_height` by more than the tolerance.
+  bool scaleDrifted(size_t first, double eye_height) const;
   // Rewrites map keyframes from `first_keyframe` and frames from `first_frame`.
   void rewrite(size_t first_keyframe, size_t first_frame, MapFusion& map, std::vector<Eigen::Isometry3d>& trajectory);
 
@@ -83,6 +97,7 @@ class LoopClosure {
   bool estimate_scale_;
   std::vector<Node> nodes_;
   std::vector<PoseGraphEdge> loops_;
+  size_t scale_corrections_ = 0;
   std::vector<LoopClosureRecord> records_;
   // Aligned with the episode's map: each keyframe as fused in the SLAM frame, as in the
   // map (corrected), and its node.

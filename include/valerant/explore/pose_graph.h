@@ -8,6 +8,11 @@
 // all with unit weight, as ORB-SLAM's essential graph weighs its edges. A monocular
 // SLAM drifts in scale, so its graph is Sim(3) (estimate_scale); a metric one keeps
 // every scale at 1 (SE(3)). Node 0 is held fixed: it fixes the map frame (gauge).
+//
+// [ours] Scale priors (loop_closure.eye_height_weight): a node i with a target tau_i
+// adds the residual w (ln s_i - tau_i), under a Huber loss past w ln 1.5, so that one
+// keyframe whose floor was another storey's does not pull the graph. LoopClosure sets
+// tau_i = ln(kappa_0 / kappa_i): the scale at which its eye stands kappa_0 over its floor.
 #include <cstddef>
 #include <vector>
 
@@ -24,10 +29,15 @@ struct PoseGraphOptions {
   bool estimate_scale = true;
   double translation_unit = 1;  // map units of one unit of translation residual (the eye height)
   int max_iterations = 50;
+  // One target ln(scale) per node (NaN: none) or empty; used with estimate_scale and a
+  // positive weight.
+  std::vector<double> log_scale_targets;
+  double scale_prior_weight = 0;
 };
 
 // The optimised nodes; `initial` (at least one) is the starting point. Throws
-// InputError for an edge naming a node that does not exist.
+// InputError for an edge naming a node that does not exist, or scale targets that are
+// not one per node.
 std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initial, const std::vector<PoseGraphEdge>& edges,
                                     const PoseGraphOptions& options);
 
