@@ -574,10 +574,6 @@ Config ConfigDocument::parse() const {
                 "slam.visual.sweep.max_baseline_ratio", v.sweep.max_baseline_ratio);
   requireAtMost(source, "loop_closure.min_inliers", c.loop_closure.min_inliers, "loop_closure.min_matches",
                 c.loop_closure.min_matches);
-  // A closure rebuilds the map from the committed keyframes alone (LoopClosure::restoreInto),
-  // which would drop the keyframes a rewind kept.
-  if (c.dead_pocket.keep_map && c.loop_closure.enabled)
-    top.fail("dead_pocket.keep_map", "cannot be true while loop_closure.enabled is true");
   return c;
 }
 

@@ -418,8 +418,12 @@ void Episode::rewind(const RewindDecision& decision, StepRecord& record) {
   contact_points_ = s.contact_points;
   last_turn_deg_ = s.last_turn_deg;
   if (loop_closure_) {  // closures made after the checkpoint are undone
+    LoopClosure left = std::move(*loop_closure_);
     loop_closure_ = s.loop_closure;
+    if (config_.dead_pocket.keep_map) loop_closure_->keepKeyframesOf(left);
     loop_closure_->restoreInto(map_, trajectory_);
+    // The kept grid marked cells where the undone corrections had put them.
+    if (config_.dead_pocket.keep_map && left.corrections() != loop_closure_->corrections()) rebuildGrid();
   }
   failed_.add(decision.failed_cells);
   if (config_.dead_pocket.ban_rewound_headings) {

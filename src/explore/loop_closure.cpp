@@ -21,10 +21,12 @@ bool isIdentity(const Similarity3& s) {
 LoopClosure::LoopClosure(const LoopClosureConfig& config, const CameraIntrinsics& intrinsics, bool estimate_scale)
     : config_(config), intrinsics_(intrinsics), estimate_scale_(estimate_scale) {}
 
-const Similarity3& LoopClosure::frameCorrection(size_t frame) const {
+const Similarity3& LoopClosure::nodeCorrection(long node) const {
   static const Similarity3 identity;
-  return frame_nodes_[frame] < 0 ? identity : nodes_[frame_nodes_[frame]].correction;
+  return node < 0 ? identity : nodes_[node].correction;
 }
+
+const Similarity3& LoopClosure::frameCorrection(size_t frame) const { return nodeCorrection(frame_nodes_[frame]); }
 
 bool LoopClosure::commit(const BranchResult& result, int step, double eye_height, MapFusion& map,
                          std::vector<Eigen::Isometry3d>& trajectory) {
@@ -54,7 +56,7 @@ bool LoopClosure::commit(const BranchResult& result, int step, double eye_height
       if (map_index >= map.marker()) throw InputError(what, "the map lacks the committed keyframes");
       fused_.push_back(map.keyframes()[map_index++]);
       corrected_.push_back(fused_.back());
-      keyframe_nodes_.push_back(nodes_.size());
+      keyframe_nodes_.push_back(static_cast<long>(nodes_.size()));
     }
     nodes_.push_back(std::move(node));
   }
@@ -128,7 +130,7 @@ void LoopClosure::optimise(double eye_height) {
       edges.push_back(
           {i - 1, i, Similarity3::fromIsometry(nodes_[i - 1].odometry).inverse() * Similarity3::fromIsometry(nodes_[i].odometry)});
   }
-  PoseGraphOptions options{estimate_scale_, eye_height, config_.max_iterations};
+  PoseGraphOptions options{estimate_scale_, eye_height, config_.max_iterations, {}, 0};
   if (config_.eye_height_weight > 0 && eye_height > 0) {
     options.scale_prior_weight = config_.eye_height_weight;
     for (const Node& node : nodes_)
@@ -143,7 +145,7 @@ void LoopClosure::optimise(double eye_height) {
 void LoopClosure::rewrite(size_t first_keyframe, size_t first_frame, MapFusion& map,
                           std::vector<Eigen::Isometry3d>& trajectory) {
   for (size_t m = first_keyframe; m < fused_.size(); ++m) {
-    const Similarity3& c = nodes_[keyframe_nodes_[m]].correction;
+    const Similarity3& c = nodeCorrection(keyframe_nodes_[m]);
     corrected_[m] = isIdentity(c) ? fused_[m] : correctedKeyframe(*fused_[m], c);
   }
   map.truncate(first_keyframe);
@@ -156,6 +158,22 @@ void LoopClosure::restoreInto(MapFusion& map, std::vector<Eigen::Isometry3d>& tr
   for (const auto& kf : corrected_) map.add(kf);
   trajectory.resize(odometry_.size());
   for (size_t f = 0; f < odometry_.size(); ++f) trajectory[f] = frameCorrection(f).applyTo(odometry_[f]);
+}
+
+void LoopClosure::keepKeyframesOf(const LoopClosure& left) {
+  if (left.fused_.size() < fused_.size() || !std::equal(fused_.begin(), fused_.end(), left.fused_.begin()))
+    throw InputError("loop closure after a rewind", "the state left is no descendant of the checkpoint's");
+  const long anchor = static_cast<long>(nodes_.size()) - 1;
+  const size_t first = fused_.size();
+  for (size_t m = first; m < left.fused_.size(); ++m) {
+    fused_.push_back(left.fused_[m]);
+    corrected_.push_back(left.fused_[m]);
+    keyframe_nodes_.push_back(std::min(left.keyframe_nodes_[m], anchor));
+  }
+  for (size_t m = first; m < fused_.size(); ++m) {
+    const Similarity3& c = nodeCorrection(keyframe_nodes_[m]);
+    if (!isIdentity(c)) corrected_[m] = correctedKeyframe(*fused_[m], c);
+  }
 }
 
 std::vector<Eigen::Isometry3d> LoopClosure::toMap(const std::vector<Eigen::Isometry3d>& slam_poses) const {

@@ -415,22 +415,6 @@ TEST(Config, WholeLevelKeysAreListsAndNumbersInRange) {
   EXPECT_EQ(both.parse().collision.climb_lag, 3);
 }
 
-// [ours] A rewind that keeps the map (dead_pocket.keep_map) cannot go with a loop
-// closure, which rebuilds the map from the committed keyframes alone.
-TEST(Config, KeepMapExcludesLoopClosure) {
-  ConfigDocument keep = ConfigDocument::load(kShipped);
-  keep.setAssignment("dead_pocket.keep_map=true", "--set dead_pocket.keep_map=true");
-  EXPECT_TRUE(keep.parse().dead_pocket.keep_map);
-  keep.setAssignment("loop_closure.enabled=true", "--set loop_closure.enabled=true");
-  try {
-    keep.parse();
-    ADD_FAILURE() << "keep_map with a loop closure was accepted";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "--set dead_pocket.keep_map=true: dead_pocket.keep_map: cannot be true while loop_closure.enabled is true");
-  }
-}
-
 TEST(Config, ShippedWholeLevelOptionsAreTheBuiltInDefaults) {
   // The tests that build a Config in code run the shipped policy (docs/whole_level.md).
   const Config shipped = loadConfig(std::string(VALERANT_SOURCE_DIR) + "/config/valerant.yaml");

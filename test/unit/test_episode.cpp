@@ -158,6 +158,14 @@ TEST(Episode, ARewindThatKeepsTheMapMovesOnlyTheAgent) {
   EXPECT_GE(kept.observed_after, kept.observed_before);
   EXPECT_GT(kept.keyframes_after, paper.keyframes_after);
   EXPECT_GT(kept.observed_after, paper.observed_after);
+  // With loop closure the kept keyframes ride on the anchor's node
+  // (LoopClosure::keepKeyframesOf): the rewind keeps them all the same.
+  config.loop_closure.enabled = true;
+  const AroundRewind closing = firstRewind(config);
+  ASSERT_TRUE(closing.rewound);
+  EXPECT_EQ(closing.keyframes_before, kept.keyframes_before);
+  EXPECT_EQ(closing.keyframes_after, kept.keyframes_after);
+  EXPECT_EQ(closing.observed_after, kept.observed_after);
 }
 
 TEST(Episode, AStallWithNoRewindLeftEndsTheEpisode) {

@@ -60,7 +60,7 @@ TEST(PoseGraph, AnOutAndBackCorridorSpreadsTheDriftEvenlyOverItsEdges) {
   std::vector<PoseGraphEdge> edges;
   for (size_t i = 0; i < steps.size(); ++i) edges.push_back({i, i + 1, steps[i]});
   edges.push_back({0, 16, Similarity3{}});
-  const auto optimised = optimisePoseGraph(initial, edges, PoseGraphOptions{false, 1.0, 50});
+  const auto optimised = optimisePoseGraph(initial, edges, PoseGraphOptions{false, 1.0, 50, {}, 0});
   // Ceres stops at its default function tolerance (1e-6 relative): 1e-4 here.
   EXPECT_NEAR(optimised.back().translation.x(), 0.8 / 17, 1e-4);
   EXPECT_NEAR(optimised[8].translation.x(), 8 * (1.1 - 0.8 / 17), 1e-4);  // the far end
@@ -84,7 +84,7 @@ TEST(PoseGraph, ASquareWithYawDriftIsPulledBackWithinATwentiethOfItsDrift) {
   std::vector<PoseGraphEdge> edges;
   for (size_t i = 0; i < measured.size(); ++i) edges.push_back({i, i + 1, measured[i]});
   edges.push_back({0, 16, Similarity3{}});
-  const auto optimised = optimisePoseGraph(initial, edges, PoseGraphOptions{false, 1.0, 100});
+  const auto optimised = optimisePoseGraph(initial, edges, PoseGraphOptions{false, 1.0, 100, {}, 0});
   EXPECT_LT(optimised.back().translation.norm(), miss / 20);
   EXPECT_LT(optimised.back().rotation.angularDistance(Eigen::Quaterniond::Identity()) * 180 / M_PI, 1.0);
   for (const Similarity3& s : optimised) EXPECT_DOUBLE_EQ(s.scale, 1.0);
@@ -107,8 +107,8 @@ TEST(PoseGraph, Sim3AbsorbsAMonocularScaleDriftThatSE3CannotClose) {
   Similarity3 loop;
   loop.scale = std::pow(1.03, -16);
   edges.push_back({0, 16, loop});
-  const auto sim3 = optimisePoseGraph(initial, edges, PoseGraphOptions{true, 1.0, 100});
-  const auto se3 = optimisePoseGraph(initial, edges, PoseGraphOptions{false, 1.0, 100});
+  const auto sim3 = optimisePoseGraph(initial, edges, PoseGraphOptions{true, 1.0, 100, {}, 0});
+  const auto se3 = optimisePoseGraph(initial, edges, PoseGraphOptions{false, 1.0, 100, {}, 0});
   const double miss = initial.back().translation.norm();
   const auto lastStep = [](const std::vector<Similarity3>& s) { return (s[16].translation - s[15].translation).norm(); };
   EXPECT_GT(miss, 1.0) << miss;
@@ -128,7 +128,7 @@ TEST(PoseGraph, AScalePriorPullsTheScaleAgainstTheEdges) {
   const std::vector<Similarity3> initial = {Similarity3{}, at(1, 0, 0)};
   const std::vector<PoseGraphEdge> edges = {{0, 1, at(1, 0, 0)}};
   auto scaleWith = [&](double target, double weight) {
-    PoseGraphOptions options{true, 1.0, 100};
+    PoseGraphOptions options{true, 1.0, 100, {}, 0};
     options.log_scale_targets = {std::nan(""), std::log(target)};
     options.scale_prior_weight = weight;
     const auto out = optimisePoseGraph(initial, edges, options);
@@ -141,7 +141,7 @@ TEST(PoseGraph, AScalePriorPullsTheScaleAgainstTheEdges) {
   EXPECT_NEAR(scaleWith(0.8, 2), std::pow(0.8, 0.8), 1e-4);
   EXPECT_NEAR(scaleWith(0.2, 1), 1 / 1.5, 1e-3);
   EXPECT_NEAR(scaleWith(0.8, 0), 1, 1e-9);  // weight 0: no prior
-  PoseGraphOptions wrong{true, 1.0, 100};
+  PoseGraphOptions wrong{true, 1.0, 100, {}, 0};
   wrong.log_scale_targets = {0.0};  // one target for two nodes
   wrong.scale_prior_weight = 1;
   EXPECT_THROW(optimisePoseGraph(initial, edges, wrong), InputError);
@@ -399,6 +399,61 @@ TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
   EXPECT_NEAR(scale, std::sqrt(1 / 0.8), 1e-4);
   EXPECT_EQ(run(0, 0.8), std::pair(false, 1.0));
   EXPECT_EQ(run(1, 0.95), std::pair(false, 1.0));
+}
+
+// [ours] dead_pocket.keep_map. The start stands 1 over its floor; commit A's keyframe at
+// x = 0.25 0.8 over its own (a scale correction, as above); a checkpoint; commit B's
+// keyframe at x = 0.5 stands 0.6 over its floor, which A's scale 1.118 takes to 0.67:
+// a second correction, which rescales A's keyframe too (its points about its camera).
+// The rewind to the checkpoint undoes it (A's keyframe as the checkpoint had it) and
+// keeps B's keyframe as a passenger of the anchor, A's node: its camera and points where
+// A's correction at the checkpoint puts them.
+// The map holds the three, and a later commit fuses after them.
+TEST(LoopClosure, ARewindThatKeepsTheMapKeepsTheDiscardedKeyframesOnTheAnchor) {
+  Config config;
+  config.loop_closure.enabled = true;
+  config.loop_closure.max_candidates = 0;
+  config.loop_closure.eye_height_weight = 1;
+  LoopClosure closure(config.loop_closure, kCamera, true);
+  MapFusion map(config.map, config.collision);
+  std::vector<Eigen::Isometry3d> trajectory;
+  const BranchResult start = keyframesAt({0}, 1.0, 0);
+  fuse(start, map, trajectory);
+  closure.commit(start, 0, 1.0, map, trajectory);
+  const BranchResult a = keyframesAt({0.25}, 0.8, 1);
+  fuse(a, map, trajectory);
+  EXPECT_TRUE(closure.commit(a, 1, 1.0, map, trajectory));
+  const LoopClosure checkpoint = closure;
+  const Eigen::Vector3f a_point = map.keyframes()[1]->points.at(0).position;
+  const Similarity3 anchor = checkpoint.correction(1);
+  EXPECT_NEAR(anchor.scale, std::sqrt(1 / 0.8), 1e-4);
+
+  const BranchResult b = keyframesAt({0.5}, 0.6, 2);
+  fuse(b, map, trajectory);
+  const std::shared_ptr<const FusedKeyframe> b_slam = map.keyframes()[2];  // as the SLAM made it
+  EXPECT_TRUE(closure.commit(b, 2, 1.0, map, trajectory));
+  EXPECT_EQ(closure.corrections(), 2u);
+  EXPECT_GT((map.keyframes()[1]->points.at(0).position - a_point).norm(), 1e-3);
+
+  LoopClosure restored = checkpoint;
+  restored.keepKeyframesOf(closure);
+  restored.restoreInto(map, trajectory);
+  EXPECT_EQ(restored.corrections(), 1u);
+  EXPECT_EQ(restored.keyframes(), 2u);  // B's keyframe is no node
+  ASSERT_EQ(map.marker(), 3u);
+  ASSERT_EQ(trajectory.size(), 2u);
+  EXPECT_LT((map.keyframes()[1]->points.at(0).position - a_point).norm(), 1e-6);
+  EXPECT_LT((map.keyframes()[2]->camera_to_map.translation() - anchor.applyTo(atX(0.5)).translation()).norm(), 1e-9);
+  EXPECT_LT((map.keyframes()[2]->points.at(0).position.cast<double>() -
+             anchor.apply(b_slam->points.at(0).position.cast<double>())).norm(), 1e-5);
+
+  const BranchResult c = keyframesAt({0.25}, 0.8 * 0.8, 3);  // from A again, the scale as at A
+  fuse(c, map, trajectory);
+  restored.commit(c, 2, 1.0, map, trajectory);
+  EXPECT_EQ(map.marker(), 4u);
+  EXPECT_EQ(trajectory.size(), 3u);
+  // A state the checkpoint did not lead to cannot lend it keyframes.
+  EXPECT_THROW(LoopClosure(checkpoint).keepKeyframesOf(LoopClosure(config.loop_closure, kCamera, true)), InputError);
 }
 
 TEST(LoopClosure, ACommitThatDoesNotEndTheTrajectoryIsAnError) {

@@ -60,6 +60,13 @@ class LoopClosure {
               std::vector<Eigen::Isometry3d>& trajectory);
   // Puts this state's map and trajectory back into the episode's (after a rewind).
   void restoreInto(MapFusion& map, std::vector<Eigen::Isometry3d>& trajectory) const;
+  // [ours] dead_pocket.keep_map: this state (a checkpoint's) also keeps the keyframes that
+  // `left`, the state a rewind leaves and a descendant of this one, fused after it. They
+  // are no graph nodes: each rides on the latest node this state has (the rewind's anchor,
+  // whose SLAM state they descend from) or on its own node where this state still holds it.
+  void keepKeyframesOf(const LoopClosure& left);
+  // Closures and scale corrections made so far: a state that made more has moved the map.
+  size_t corrections() const { return loops_.size() + scale_corrections_; }
 
   // SLAM-frame poses in the corrected map frame, by the latest correction.
   std::vector<Eigen::Isometry3d> toMap(const std::vector<Eigen::Isometry3d>& slam_poses) const;
@@ -84,6 +91,7 @@ class LoopClosure {
   Similarity3 pose(size_t node) const { return nodes_[node].correction * Similarity3::fromIsometry(nodes_[node].odometry); }
   Similarity3 latestCorrection() const { return nodes_.empty() ? Similarity3{} : nodes_.back().correction; }
   const Similarity3& frameCorrection(size_t frame) const;
+  const Similarity3& nodeCorrection(long node) const;
   // Verifies the candidates of node `j`; true when one became a loop edge.
   bool detect(size_t j, int step, double eye_height);
   void optimise(double eye_height);
@@ -100,9 +108,9 @@ class LoopClosure {
   size_t scale_corrections_ = 0;
   std::vector<LoopClosureRecord> records_;
   // Aligned with the episode's map: each keyframe as fused in the SLAM frame, as in the
-  // map (corrected), and its node.
+  // map (corrected), and its node (-1: before the first node, never corrected).
   std::vector<std::shared_ptr<const FusedKeyframe>> fused_, corrected_;
-  std::vector<size_t> keyframe_nodes_;
+  std::vector<long> keyframe_nodes_;
   // Aligned with the episode's trajectory: SLAM poses and the node each follows (-1:
   // before the first keyframe, never corrected: node 0 is the graph's fixed gauge).
   std::vector<Eigen::Isometry3d> odometry_;
