@@ -5,6 +5,7 @@
 #include <string>
 
 #include "valerant/common/error.h"
+#include "valerant/common/median.h"
 #include "valerant/map/corrected_keyframe.h"
 
 namespace valerant {
@@ -27,6 +28,11 @@ const Similarity3& LoopClosure::nodeCorrection(long node) const {
 }
 
 const Similarity3& LoopClosure::frameCorrection(size_t frame) const { return nodeCorrection(frame_nodes_[frame]); }
+
+std::shared_ptr<const FusedKeyframe> LoopClosure::correctedOf(size_t keyframe) const {
+  const Similarity3& c = nodeCorrection(keyframe_nodes_[keyframe]);
+  return isIdentity(c) ? fused_[keyframe] : correctedKeyframe(*fused_[keyframe], c);
+}
 
 bool LoopClosure::commit(const BranchResult& result, int step, double eye_height, MapFusion& map,
                          std::vector<Eigen::Isometry3d>& trajectory) {
@@ -84,10 +90,7 @@ bool LoopClosure::scaleDrifted(size_t first, double eye_height) const {
   std::vector<double> off;  // |ln(corrected kappa / kappa_0)| of the new nodes
   for (size_t j = std::max<size_t>(first, 1); j < nodes_.size(); ++j)
     if (nodes_[j].kappa > 0) off.push_back(std::abs(std::log(pose(j).scale * nodes_[j].kappa / eye_height)));
-  if (off.empty()) return false;
-  const auto mid = off.begin() + static_cast<std::ptrdiff_t>(off.size() / 2);
-  std::nth_element(off.begin(), mid, off.end());
-  return *mid > std::log(1 + config_.eye_height_tolerance);
+  return !off.empty() && median(std::move(off)) > std::log(1 + config_.eye_height_tolerance);
 }
 
 bool LoopClosure::detect(size_t j, int step, double eye_height) {
@@ -144,10 +147,7 @@ void LoopClosure::optimise(double eye_height) {
 
 void LoopClosure::rewrite(size_t first_keyframe, size_t first_frame, MapFusion& map,
                           std::vector<Eigen::Isometry3d>& trajectory) {
-  for (size_t m = first_keyframe; m < fused_.size(); ++m) {
-    const Similarity3& c = nodeCorrection(keyframe_nodes_[m]);
-    corrected_[m] = isIdentity(c) ? fused_[m] : correctedKeyframe(*fused_[m], c);
-  }
+  for (size_t m = first_keyframe; m < fused_.size(); ++m) corrected_[m] = correctedOf(m);
   map.truncate(first_keyframe);
   for (size_t m = first_keyframe; m < corrected_.size(); ++m) map.add(corrected_[m]);
   for (size_t f = first_frame; f < odometry_.size(); ++f) trajectory[f] = frameCorrection(f).applyTo(odometry_[f]);
@@ -164,15 +164,10 @@ void LoopClosure::keepKeyframesOf(const LoopClosure& left) {
   if (left.fused_.size() < fused_.size() || !std::equal(fused_.begin(), fused_.end(), left.fused_.begin()))
     throw InputError("loop closure after a rewind", "the state left is no descendant of the checkpoint's");
   const long anchor = static_cast<long>(nodes_.size()) - 1;
-  const size_t first = fused_.size();
-  for (size_t m = first; m < left.fused_.size(); ++m) {
+  for (size_t m = fused_.size(); m < left.fused_.size(); ++m) {
     fused_.push_back(left.fused_[m]);
-    corrected_.push_back(left.fused_[m]);
     keyframe_nodes_.push_back(std::min(left.keyframe_nodes_[m], anchor));
-  }
-  for (size_t m = first; m < fused_.size(); ++m) {
-    const Similarity3& c = nodeCorrection(keyframe_nodes_[m]);
-    if (!isIdentity(c)) corrected_[m] = correctedKeyframe(*fused_[m], c);
+    corrected_.push_back(correctedOf(m));
   }
 }
 

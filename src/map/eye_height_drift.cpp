@@ -3,18 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "valerant/common/median.h"
+
 namespace valerant {
 
 namespace {
 constexpr double kFloorBand = 0.05;    // |h| of a floor point, in eye heights
 constexpr size_t kMinFloorPoints = 50;  // fewer: a keyframe that hardly saw its floor
 constexpr size_t kLastKeyframes = 10;
-
-double median(std::vector<double> v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 }  // namespace
 
 std::optional<double> keyframeEyeHeight(const FusedKeyframe& keyframe) {

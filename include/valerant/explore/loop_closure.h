@@ -92,6 +92,8 @@ class LoopClosure {
   Similarity3 latestCorrection() const { return nodes_.empty() ? Similarity3{} : nodes_.back().correction; }
   const Similarity3& frameCorrection(size_t frame) const;
   const Similarity3& nodeCorrection(long node) const;
+  // Map keyframe `keyframe` (as fused in the SLAM frame) under its node's correction.
+  std::shared_ptr<const FusedKeyframe> correctedOf(size_t keyframe) const;
   // Verifies the candidates of node `j`; true when one became a loop edge.
   bool detect(size_t j, int step, double eye_height);
   void optimise(double eye_height);
