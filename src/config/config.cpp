@@ -384,6 +384,7 @@ void readLoopClosure(Section s, LoopClosureConfig& l) {
   s.number("max_iterations", l.max_iterations, 1, 10000);
   s.number("eye_height_weight", l.eye_height_weight, 0.0, 1e6);
   s.number("eye_height_tolerance", l.eye_height_tolerance, 0.0, 10.0);
+  s.number("rewrite_tolerance_eye_heights", l.rewrite_tolerance_eye_heights, 0.0, 1.0);
   s.finish();
 }
 

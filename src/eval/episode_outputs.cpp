@@ -122,6 +122,7 @@ nlohmann::json loopClosures(const Episode& episode) {
   if (!closure) return out;
   out["keyframes"] = closure->keyframes();
   out["scale_corrections"] = closure->scaleCorrections();  // loop_closure.eye_height_weight
+  out["keyframes_rewritten"] = closure->keyframesRewritten();  // corrected copies made
   const size_t n = std::min(closure->odometry().size(), episode.truth().size());
   if (n > 0) {
     std::vector<Eigen::Isometry3d> truth_metres;

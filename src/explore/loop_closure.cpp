@@ -29,9 +29,19 @@ const Similarity3& LoopClosure::nodeCorrection(long node) const {
 
 const Similarity3& LoopClosure::frameCorrection(size_t frame) const { return nodeCorrection(frame_nodes_[frame]); }
 
-std::shared_ptr<const FusedKeyframe> LoopClosure::correctedOf(size_t keyframe) const {
-  const Similarity3& c = nodeCorrection(keyframe_nodes_[keyframe]);
-  return isIdentity(c) ? fused_[keyframe] : correctedKeyframe(*fused_[keyframe], c);
+void LoopClosure::correct(MapKeyframe& keyframe) {
+  const Similarity3& c = nodeCorrection(keyframe.node);
+  const double tolerance = config_.rewrite_tolerance_eye_heights * eye_height_;
+  if (keyframe.corrected && (c * keyframe.applied.inverse()).maxDisplacement(keyframe.extent) <= tolerance) return;
+  if (isIdentity(c)) {
+    keyframe.corrected = keyframe.fused;
+  } else {
+    keyframe.corrected = correctedKeyframe(*keyframe.fused, c);
+    ++keyframes_rewritten_;
+  }
+  keyframe.applied = c;
+  keyframe.extent = Eigen::AlignedBox3d(keyframe.corrected->camera_to_map.translation());
+  for (const FusedPoint& p : keyframe.corrected->points) keyframe.extent.extend(p.position.cast<double>());
 }
 
 bool LoopClosure::commit(const BranchResult& result, int step, double eye_height, MapFusion& map,
@@ -42,7 +52,8 @@ bool LoopClosure::commit(const BranchResult& result, int step, double eye_height
   if (result.keyframes.size() != result.keyframe_floors.size())
     throw InputError(what, "keyframes and floors differ in length");
   const size_t first_frame = odometry_.size();
-  const size_t first_keyframe = fused_.size();
+  const size_t first_keyframe = keyframes_.size();
+  eye_height_ = eye_height;
   const size_t first_node = nodes_.size();
   const Similarity3 before = latestCorrection();
 
@@ -60,9 +71,10 @@ bool LoopClosure::commit(const BranchResult& result, int step, double eye_height
     if (local >= 0 && local < static_cast<long>(node_at_frame.size())) node_at_frame[local] = nodes_.size();
     if (result.keyframe_floors[r].known) {
       if (map_index >= map.marker()) throw InputError(what, "the map lacks the committed keyframes");
-      fused_.push_back(map.keyframes()[map_index++]);
-      corrected_.push_back(fused_.back());
-      keyframe_nodes_.push_back(static_cast<long>(nodes_.size()));
+      MapKeyframe added;
+      added.fused = map.keyframes()[map_index++];
+      added.node = static_cast<long>(nodes_.size());
+      keyframes_.push_back(std::move(added));
     }
     nodes_.push_back(std::move(node));
   }
@@ -81,7 +93,7 @@ bool LoopClosure::commit(const BranchResult& result, int step, double eye_height
   if (closed || rescaled) optimise(eye_height);
   scale_corrections_ += rescaled;
   const bool moved = closed || rescaled;
-  if (moved || !isIdentity(before)) rewrite(moved ? 0 : first_keyframe, moved ? 0 : first_frame, map, trajectory);
+  rewrite(moved ? 0 : first_keyframe, moved ? 0 : first_frame, map, trajectory);
   return moved;
 }
 
@@ -147,27 +159,30 @@ void LoopClosure::optimise(double eye_height) {
 
 void LoopClosure::rewrite(size_t first_keyframe, size_t first_frame, MapFusion& map,
                           std::vector<Eigen::Isometry3d>& trajectory) {
-  for (size_t m = first_keyframe; m < fused_.size(); ++m) corrected_[m] = correctedOf(m);
+  for (size_t m = first_keyframe; m < keyframes_.size(); ++m) correct(keyframes_[m]);
   map.truncate(first_keyframe);
-  for (size_t m = first_keyframe; m < corrected_.size(); ++m) map.add(corrected_[m]);
+  for (size_t m = first_keyframe; m < keyframes_.size(); ++m) map.add(keyframes_[m].corrected);
   for (size_t f = first_frame; f < odometry_.size(); ++f) trajectory[f] = frameCorrection(f).applyTo(odometry_[f]);
 }
 
 void LoopClosure::restoreInto(MapFusion& map, std::vector<Eigen::Isometry3d>& trajectory) const {
   map.truncate(0);
-  for (const auto& kf : corrected_) map.add(kf);
+  for (const MapKeyframe& kf : keyframes_) map.add(kf.corrected);
   trajectory.resize(odometry_.size());
   for (size_t f = 0; f < odometry_.size(); ++f) trajectory[f] = frameCorrection(f).applyTo(odometry_[f]);
 }
 
 void LoopClosure::keepKeyframesOf(const LoopClosure& left) {
-  if (left.fused_.size() < fused_.size() || !std::equal(fused_.begin(), fused_.end(), left.fused_.begin()))
+  const auto same_fused = [](const MapKeyframe& a, const MapKeyframe& b) { return a.fused == b.fused; };
+  if (left.keyframes_.size() < keyframes_.size() ||
+      !std::equal(keyframes_.begin(), keyframes_.end(), left.keyframes_.begin(), same_fused))
     throw InputError("loop closure after a rewind", "the state left is no descendant of the checkpoint's");
   const long anchor = static_cast<long>(nodes_.size()) - 1;
-  for (size_t m = fused_.size(); m < left.fused_.size(); ++m) {
-    fused_.push_back(left.fused_[m]);
-    keyframe_nodes_.push_back(std::min(left.keyframe_nodes_[m], anchor));
-    corrected_.push_back(correctedOf(m));
+  for (size_t m = keyframes_.size(); m < left.keyframes_.size(); ++m) {
+    MapKeyframe kept = left.keyframes_[m];  // its copy stays where this state's correction allows
+    kept.node = std::min(kept.node, anchor);
+    correct(kept);
+    keyframes_.push_back(std::move(kept));
   }
 }
 

@@ -152,6 +152,20 @@ TEST(PoseGraph, AnEdgeToAMissingNodeIsAnError) {
   EXPECT_THROW(optimisePoseGraph({}, {}, PoseGraphOptions{}), InputError);
 }
 
+// Scale 2 about the origin moves the unit cube's corner (1, 1, 1) by sqrt 3, the farthest;
+// a shift moves every point by its length; a quarter turn about +y takes the segment's end
+// (2, 0, 0) to (0, 0, -2), 2 sqrt 2 away (its other end (1, 0, 0) moves sqrt 2).
+TEST(Similarity3, TheFarthestMoveOverABoxIsAtACorner) {
+  const Eigen::AlignedBox3d cube(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 1));
+  Similarity3 doubling;
+  doubling.scale = 2;
+  EXPECT_NEAR(doubling.maxDisplacement(cube), std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(at(0.3, 0, 0.4).maxDisplacement(cube), 0.5, 1e-12);
+  const Eigen::AlignedBox3d segment(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(2, 0, 0));
+  EXPECT_NEAR(at(0, 0, 0, 90).maxDisplacement(segment), 2 * std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(Similarity3{}.maxDisplacement(cube), 0, 0);
+}
+
 TEST(Similarity3, ComposesInvertsAndMovesCameras) {
   Similarity3 s = at(1, 2, 3, 90);
   s.scale = 2;
@@ -456,6 +470,67 @@ TEST(LoopClosure, ARewindThatKeepsTheMapKeepsTheDiscardedKeyframesOnTheAnchor) {
   EXPECT_THROW(LoopClosure(checkpoint).keepKeyframesOf(LoopClosure(config.loop_closure, kCamera, true)), InputError);
 }
 
+// [ours] loop_closure.rewrite_tolerance_eye_heights. As above: A's correction (scale
+// 1.118) copies A's keyframe; B's second correction moves A's node again, which would
+// move A's copy by at most d over the box of its points and camera (Similarity3's
+// maxDisplacement, checked by hand above). A tolerance just over d keeps A's copy (same
+// id, every point within the tolerance of where the exact correction puts it) and copies
+// only B's; just under d copies A's again. The count of copies says which happened.
+TEST(LoopClosure, ACorrectionThatMovesAKeyframeWithinTheToleranceKeepsItsCopy) {
+  struct Played {
+    std::shared_ptr<const FusedKeyframe> a_after_a, a_after_b;  // A's map keyframe
+    Similarity3 a_correction_after_a, a_correction_after_b;
+    size_t rewritten = 0;
+  };
+  const auto play = [](double tolerance) {
+    Config config;
+    config.loop_closure.enabled = true;
+    config.loop_closure.max_candidates = 0;
+    config.loop_closure.eye_height_weight = 1;
+    config.loop_closure.rewrite_tolerance_eye_heights = tolerance;
+    LoopClosure closure(config.loop_closure, kCamera, true);
+    MapFusion map(config.map, config.collision);
+    std::vector<Eigen::Isometry3d> trajectory;
+    Played out;
+    const BranchResult start = keyframesAt({0}, 1.0, 0);
+    fuse(start, map, trajectory);
+    closure.commit(start, 0, 1.0, map, trajectory);
+    const BranchResult a = keyframesAt({0.25}, 0.8, 1);
+    fuse(a, map, trajectory);
+    EXPECT_TRUE(closure.commit(a, 1, 1.0, map, trajectory));
+    EXPECT_EQ(closure.keyframesRewritten(), 1u);  // A's; the start's node is the gauge
+    out.a_after_a = map.keyframes()[1];
+    out.a_correction_after_a = closure.correction(1);
+    const BranchResult b = keyframesAt({0.5}, 0.6, 2);
+    fuse(b, map, trajectory);
+    EXPECT_TRUE(closure.commit(b, 2, 1.0, map, trajectory));
+    out.a_after_b = map.keyframes()[1];
+    out.a_correction_after_b = closure.correction(1);
+    out.rewritten = closure.keyframesRewritten();
+    return out;
+  };
+  const Played exact = play(0);
+  EXPECT_NE(exact.a_after_b, exact.a_after_a);
+  EXPECT_EQ(exact.rewritten, 3u);
+  Eigen::AlignedBox3d box(exact.a_after_a->camera_to_map.translation());
+  for (const FusedPoint& p : exact.a_after_a->points) box.extend(p.position.cast<double>());
+  const double d = (exact.a_correction_after_b * exact.a_correction_after_a.inverse()).maxDisplacement(box);
+  EXPECT_GT(d, 1e-3);
+
+  const Played tolerant = play(1.01 * d);
+  EXPECT_EQ(tolerant.a_after_b, tolerant.a_after_a);  // A's copy kept
+  EXPECT_EQ(tolerant.rewritten, 2u);                  // A's, then B's
+  double worst = 0;  // kept, A's points stand within the tolerance of the exact correction
+  for (size_t i = 0; i < exact.a_after_b->points.size(); ++i)
+    worst = std::max(worst, double((tolerant.a_after_b->points[i].position - exact.a_after_b->points[i].position).norm()));
+  EXPECT_GT(worst, 1e-4);  // the copy kept is not the exact one ...
+  EXPECT_LE(worst, 1.01 * d + 1e-5);  // ... but as near as the tolerance
+
+  const Played strict = play(0.99 * d);
+  EXPECT_NE(strict.a_after_b, strict.a_after_a);
+  EXPECT_EQ(strict.rewritten, 3u);
+}
+
 TEST(LoopClosure, ACommitThatDoesNotEndTheTrajectoryIsAnError) {
   LoopClosure closure(LoopClosureConfig{}, kCamera, true);
   Config config;
@@ -504,6 +579,7 @@ TEST(LoopClosureConfig, ShippedOffWithTheBuiltInValuesAndCheckedLikeTheRest) {
   EXPECT_EQ(c.max_iterations, built_in.max_iterations);
   EXPECT_EQ(c.eye_height_weight, built_in.eye_height_weight);  // 0: off
   EXPECT_EQ(c.eye_height_tolerance, built_in.eye_height_tolerance);
+  EXPECT_EQ(c.rewrite_tolerance_eye_heights, built_in.rewrite_tolerance_eye_heights);
   const auto errorOf = [&](const std::string& assignment) {
     ConfigDocument d = ConfigDocument::load(shipped);
     d.setAssignment(assignment, "--set " + assignment);
@@ -521,5 +597,8 @@ TEST(LoopClosureConfig, ShippedOffWithTheBuiltInValuesAndCheckedLikeTheRest) {
   EXPECT_NE(errorOf("loop_closure.min_inliers=100").find("loop_closure.min_inliers: must not exceed"), std::string::npos);
   EXPECT_EQ(errorOf("loop_closure.eye_height_weight=-1"),
             "--set loop_closure.eye_height_weight=-1: loop_closure.eye_height_weight: value -1 outside [0, 1e+06]");
+  EXPECT_EQ(errorOf("loop_closure.rewrite_tolerance_eye_heights=2"),
+            "--set loop_closure.rewrite_tolerance_eye_heights=2: loop_closure.rewrite_tolerance_eye_heights: value 2 "
+            "outside [0, 1]");
   EXPECT_EQ(errorOf("loop_closure.enabled=true"), "");
 }

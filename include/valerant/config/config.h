@@ -335,6 +335,10 @@ struct LoopClosureConfig {
   // [ours] ... and a commit whose new keyframes' corrected eye heights are off kappa_0 by
   // more than this share (their median) optimises the graph, as a closure does.
   double eye_height_tolerance = 0.1;
+  // [ours] a correction that moves no point of a map keyframe's current copy by more than
+  // this (eye heights) keeps that copy: half the map's voxel leaf. 0 = copy every keyframe
+  // the graph moved at all.
+  double rewrite_tolerance_eye_heights = 0.025;
 };
 
 struct Config {

@@ -9,8 +9,11 @@
 // near its predicted one (the latest correction applied to its SLAM pose) and whose
 // view direction is close; the nearest few are verified (loop_verifier.h). Each
 // verified match adds a loop edge; a commit that added any optimises the graph
-// (pose_graph.h) and rewrites the whole map and trajectory from the new corrections.
-// Frames take the correction of the latest keyframe at or before them.
+// (pose_graph.h) and rewrites the map and trajectory from the new corrections.
+// Frames take the correction of the latest keyframe at or before them. A map keyframe is
+// a corrected copy; [ours] a new correction that moves none of its points by more than
+// rewrite_tolerance_eye_heights keeps the copy it has, so a correction that moves only
+// the recent map copies only that (each copy is memory, and checkpoints keep theirs).
 //
 // [ours] The eye height (loop_closure.eye_height_weight > 0, a Sim(3) graph): each node
 // also keeps its keyframe's camera-to-floor distance kappa_i in SLAM units, and the graph
@@ -77,6 +80,8 @@ class LoopClosure {
   size_t made() const { return loops_.size(); }
   // Commits that optimised the graph for the eye height alone.
   size_t scaleCorrections() const { return scale_corrections_; }
+  // Corrected copies of map keyframes made so far (a keyframe no correction moves has none).
+  size_t keyframesRewritten() const { return keyframes_rewritten_; }
   size_t keyframes() const { return nodes_.size(); }
   // The correction of a committed keyframe (pose graph node).
   const Similarity3& correction(size_t keyframe) const { return nodes_.at(keyframe).correction; }
@@ -90,10 +95,20 @@ class LoopClosure {
   };
   Similarity3 pose(size_t node) const { return nodes_[node].correction * Similarity3::fromIsometry(nodes_[node].odometry); }
   Similarity3 latestCorrection() const { return nodes_.empty() ? Similarity3{} : nodes_.back().correction; }
+  // A map keyframe: as fused in the SLAM frame; as in the map, by `applied`; the box of
+  // its map points and camera centre, over which a new correction's move is bounded; its
+  // node (-1: before the first node, never corrected).
+  struct MapKeyframe {
+    std::shared_ptr<const FusedKeyframe> fused, corrected;
+    Similarity3 applied;
+    Eigen::AlignedBox3d extent;
+    long node = -1;
+  };
   const Similarity3& frameCorrection(size_t frame) const;
   const Similarity3& nodeCorrection(long node) const;
-  // Map keyframe `keyframe` (as fused in the SLAM frame) under its node's correction.
-  std::shared_ptr<const FusedKeyframe> correctedOf(size_t keyframe) const;
+  // Brings `keyframe`'s map copy to its node's correction: a new copy unless the
+  // correction moves the one it has by at most the tolerance.
+  void correct(MapKeyframe& keyframe);
   // Verifies the candidates of node `j`; true when one became a loop edge.
   bool detect(size_t j, int step, double eye_height);
   void optimise(double eye_height);
@@ -108,11 +123,10 @@ class LoopClosure {
   std::vector<Node> nodes_;
   std::vector<PoseGraphEdge> loops_;
   size_t scale_corrections_ = 0;
+  size_t keyframes_rewritten_ = 0;
+  double eye_height_ = 0;  // kappa_0 of the last commit, in map units: the tolerance's unit
   std::vector<LoopClosureRecord> records_;
-  // Aligned with the episode's map: each keyframe as fused in the SLAM frame, as in the
-  // map (corrected), and its node (-1: before the first node, never corrected).
-  std::vector<std::shared_ptr<const FusedKeyframe>> fused_, corrected_;
-  std::vector<long> keyframe_nodes_;
+  std::vector<MapKeyframe> keyframes_;  // aligned with the episode's map
   // Aligned with the episode's trajectory: SLAM poses and the node each follows (-1:
   // before the first keyframe, never corrected: node 0 is the graph's fixed gauge).
   std::vector<Eigen::Isometry3d> odometry_;

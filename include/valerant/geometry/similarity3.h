@@ -3,6 +3,7 @@
 // loop closure corrects (a SLAM frame to the corrected map frame) and what the keyframe
 // pose graph estimates per keyframe (camera to map, with the keyframe's own scale).
 #include <Eigen/Geometry>
+#include <algorithm>
 
 namespace valerant {
 
@@ -30,6 +31,16 @@ struct Similarity3 {
     out.linear() = rotation.toRotationMatrix();
     out.translation() = translation;
     return out;
+  }
+  // The farthest a point of `box` moves under this transform: x -> (sR - I)x + t is
+  // affine, so the length of the move is convex and peaks at one of the box's corners.
+  double maxDisplacement(const Eigen::AlignedBox3d& box) const {
+    double farthest = 0;
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d corner = box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c));
+      farthest = std::max(farthest, (apply(corner) - corner).norm());
+    }
+    return farthest;
   }
   // A camera pose (camera_to_frame) moved by this transform: rotated, its centre mapped.
   Eigen::Isometry3d applyTo(const Eigen::Isometry3d& camera_to_frame) const {
