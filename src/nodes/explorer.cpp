@@ -41,22 +41,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Loop closure matches committed keyframe images, and the graph's explorer never gets
-// them (rollout frames stream to branch_slam): refused at start-up, not silently off.
-Config graphConfig(const ConfigDocument& document) {
-  Config config = document.parse();
-  if (config.loop_closure.enabled)
-    throw InputError("loop_closure.enabled", "true is not supported in the ROS graph (the explorer receives no rollout "
-                                             "images); run valerant_explore for loop closure");
-  return config;
-}
-
 class Explorer {
  public:
   Explorer(::ros::NodeHandle nh, ::ros::NodeHandle pnh)
       : nh_(nh),
         document_(valerant::bridge::loadGraphConfigDocument(nh)),
-        config_(graphConfig(document_)),
+        config_(valerant::bridge::explorerConfig(document_)),
         output_dir_(valerant::bridge::requiredString(pnh, "output_dir")),
         overwrite_(pnh.param("overwrite", false)),
         world_(nh, valerant::bridge::requiredDouble(pnh, "connect_timeout_s"),

@@ -99,4 +99,14 @@ std::string requiredString(const ::ros::NodeHandle& private_nh, const std::strin
   return v;
 }
 
+Config explorerConfig(const ConfigDocument& document) {
+  Config config = document.parse();
+  if (config.loop_closure.enabled && config.loop_closure.max_candidates > 0)
+    throw InputError("loop_closure.max_candidates",
+                     std::to_string(config.loop_closure.max_candidates) +
+                         " with loop_closure.enabled is not supported in the ROS graph (the explorer receives no rollout "
+                         "images to match); set it to 0 for the eye height alone, or run valerant_explore for loops");
+  return config;
+}
+
 }  // namespace valerant::bridge

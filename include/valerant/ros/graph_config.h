@@ -23,6 +23,11 @@ namespace valerant::bridge {
 ConfigDocument loadGraphConfigDocument(const ::ros::NodeHandle& nh);
 // loadGraphConfigDocument(nh).parse().
 Config loadGraphConfig(const ::ros::NodeHandle& nh);
+// What the graph's explorer runs: `document` parsed, refusing what the graph cannot
+// carry. Loop closure matches candidates on rollout images, which stream to branch_slam
+// and never reach the explorer, so loop_closure.enabled needs loop_closure.max_candidates
+// 0 (no loops: the eye height alone, which reads only the keyframes' floors).
+Config explorerConfig(const ConfigDocument& document);
 
 // A private parameter that must be set (launch files give every one); InputError names it.
 double requiredDouble(const ::ros::NodeHandle& private_nh, const std::string& name);
