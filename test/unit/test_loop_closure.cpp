@@ -381,6 +381,28 @@ BranchResult keyframesAt(const std::vector<double>& xs, double kappa, size_t fir
   }
   return r;
 }
+
+// Loop closure with the eye height alone (no loop candidates), at factor weight `weight`.
+Config eyeHeightAlone(double weight) {
+  Config config;
+  config.loop_closure.enabled = true;
+  config.loop_closure.max_candidates = 0;
+  config.loop_closure.eye_height_weight = weight;
+  return config;
+}
+
+void fuseAndCommit(const BranchResult& r, int step, LoopClosure& closure, MapFusion& map,
+                   std::vector<Eigen::Isometry3d>& trajectory, bool moves) {
+  fuse(r, map, trajectory);
+  EXPECT_EQ(closure.commit(r, step, 1.0, map, trajectory), moves) << "step " << step;
+}
+
+// The start (1 over its floor, kappa_0 = 1) and commit A (a keyframe at x = 0.25, 0.8 over
+// its own): a scale correction, as in AKeyframeWhoseEyeStandsLowRescalesTheMap.
+void commitStartAndA(LoopClosure& closure, MapFusion& map, std::vector<Eigen::Isometry3d>& trajectory) {
+  fuseAndCommit(keyframesAt({0}, 1.0, 0), 0, closure, map, trajectory, false);
+  fuseAndCommit(keyframesAt({0.25}, 0.8, 1), 1, closure, map, trajectory, true);
+}
 }  // namespace
 
 // The start's keyframe stands 1 over its floor (kappa_0 = 1); the next commit's one keyframe
@@ -391,10 +413,7 @@ BranchResult keyframesAt(const std::vector<double>& xs, double kappa, size_t fir
 // tolerance (0.95 over its floor), nothing moves.
 TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
   auto run = [](double weight, double kappa) {
-    Config config;
-    config.loop_closure.enabled = true;
-    config.loop_closure.max_candidates = 0;
-    config.loop_closure.eye_height_weight = weight;
+    const Config config = eyeHeightAlone(weight);
     LoopClosure closure(config.loop_closure, kCamera, true);
     MapFusion map(config.map, config.collision);
     std::vector<Eigen::Isometry3d> trajectory;
@@ -424,19 +443,11 @@ TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
 // A's correction at the checkpoint puts them.
 // The map holds the three, and a later commit fuses after them.
 TEST(LoopClosure, ARewindThatKeepsTheMapKeepsTheDiscardedKeyframesOnTheAnchor) {
-  Config config;
-  config.loop_closure.enabled = true;
-  config.loop_closure.max_candidates = 0;
-  config.loop_closure.eye_height_weight = 1;
+  const Config config = eyeHeightAlone(1);
   LoopClosure closure(config.loop_closure, kCamera, true);
   MapFusion map(config.map, config.collision);
   std::vector<Eigen::Isometry3d> trajectory;
-  const BranchResult start = keyframesAt({0}, 1.0, 0);
-  fuse(start, map, trajectory);
-  closure.commit(start, 0, 1.0, map, trajectory);
-  const BranchResult a = keyframesAt({0.25}, 0.8, 1);
-  fuse(a, map, trajectory);
-  EXPECT_TRUE(closure.commit(a, 1, 1.0, map, trajectory));
+  commitStartAndA(closure, map, trajectory);
   const LoopClosure checkpoint = closure;
   const Eigen::Vector3f a_point = map.keyframes()[1]->points.at(0).position;
   const Similarity3 anchor = checkpoint.correction(1);
@@ -483,27 +494,17 @@ TEST(LoopClosure, ACorrectionThatMovesAKeyframeWithinTheToleranceKeepsItsCopy) {
     size_t rewritten = 0;
   };
   const auto play = [](double tolerance) {
-    Config config;
-    config.loop_closure.enabled = true;
-    config.loop_closure.max_candidates = 0;
-    config.loop_closure.eye_height_weight = 1;
+    Config config = eyeHeightAlone(1);
     config.loop_closure.rewrite_tolerance_eye_heights = tolerance;
     LoopClosure closure(config.loop_closure, kCamera, true);
     MapFusion map(config.map, config.collision);
     std::vector<Eigen::Isometry3d> trajectory;
     Played out;
-    const BranchResult start = keyframesAt({0}, 1.0, 0);
-    fuse(start, map, trajectory);
-    closure.commit(start, 0, 1.0, map, trajectory);
-    const BranchResult a = keyframesAt({0.25}, 0.8, 1);
-    fuse(a, map, trajectory);
-    EXPECT_TRUE(closure.commit(a, 1, 1.0, map, trajectory));
+    commitStartAndA(closure, map, trajectory);
     EXPECT_EQ(closure.keyframesRewritten(), 1u);  // A's; the start's node is the gauge
     out.a_after_a = map.keyframes()[1];
     out.a_correction_after_a = closure.correction(1);
-    const BranchResult b = keyframesAt({0.5}, 0.6, 2);
-    fuse(b, map, trajectory);
-    EXPECT_TRUE(closure.commit(b, 2, 1.0, map, trajectory));
+    fuseAndCommit(keyframesAt({0.5}, 0.6, 2), 2, closure, map, trajectory, true);
     out.a_after_b = map.keyframes()[1];
     out.a_correction_after_b = closure.correction(1);
     out.rewritten = closure.keyframesRewritten();
