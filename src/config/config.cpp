@@ -384,6 +384,8 @@ void readLoopClosure(Section s, LoopClosureConfig& l) {
   s.number("max_iterations", l.max_iterations, 1, 10000);
   s.number("eye_height_weight", l.eye_height_weight, 0.0, 1e6);
   s.number("eye_height_tolerance", l.eye_height_tolerance, 0.0, 10.0);
+  s.number("level_weight", l.level_weight, 0.0, 1e6);
+  s.number("level_tolerance_deg", l.level_tolerance_deg, 0.0, 90.0);
   s.number("rewrite_tolerance_eye_heights", l.rewrite_tolerance_eye_heights, 0.0, 1.0);
   s.finish();
 }

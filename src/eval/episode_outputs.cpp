@@ -94,6 +94,8 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
           {"floor_aligned", truth.floor_aligned},
           {"ate_rmse_m", truth.alignment_rmse_m},
           {"ate_percent", truth.ate_percent},
+          {"tilt_median_deg", truth.tilt_median_deg},
+          {"tilt_p90_deg", truth.tilt_p90_deg},
           {"observed_percent_by_step", truth.observed_percent_by_step},
           {"coverage_curve",
            {{"committed_step", curve.committed_step},
@@ -122,6 +124,7 @@ nlohmann::json loopClosures(const Episode& episode) {
   if (!closure) return out;
   out["keyframes"] = closure->keyframes();
   out["scale_corrections"] = closure->scaleCorrections();  // loop_closure.eye_height_weight
+  out["level_corrections"] = closure->levelCorrections();  // loop_closure.level_weight
   out["keyframes_rewritten"] = closure->keyframesRewritten();  // corrected copies made
   const size_t n = std::min(closure->odometry().size(), episode.truth().size());
   if (n > 0) {

@@ -6,6 +6,8 @@
 #include <map>
 #include <set>
 
+#include "valerant/common/median.h"
+#include "valerant/eval/trajectory_metrics.h"
 #include "valerant/world/quake3/units.h"
 
 namespace valerant {
@@ -118,6 +120,19 @@ std::set<ReachableCells::CellStorey> ReachableCells::inViewOf(const FrameTruth& 
   return seen;
 }
 
+namespace {
+
+// The committed frames' roll and pitch errors under `alignment` (the BSP's up is +z).
+std::vector<double> committedTiltsDeg(const Episode& episode, const Sim3& alignment) {
+  const size_t n = std::min(episode.trajectory().size(), episode.truth().size());
+  std::vector<Eigen::Isometry3d> truth;
+  for (size_t i = 0; i < n; ++i) truth.push_back(episode.truth()[i].camera_to_world);
+  return tiltErrorsDeg(std::vector<Eigen::Isometry3d>(episode.trajectory().begin(), episode.trajectory().begin() + n),
+                       truth, alignment.rotation, Eigen::Vector3d::UnitZ());
+}
+
+}  // namespace
+
 EpisodeAlignment alignEpisode(const Episode& episode) {
   EpisodeAlignment a;
   const auto& truth = episode.truth();
@@ -199,6 +214,9 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   t.alignment_rmse_m = alignment.rmse_m;
   t.ate_percent = alignment.ate_percent;
   t.alignment_scale = t.map_to_world_metres.scale;
+  const std::vector<double> tilts = committedTiltsDeg(episode, t.map_to_world_metres);
+  t.tilt_median_deg = quantile(tilts, 0.5);
+  t.tilt_p90_deg = quantile(tilts, 0.9);
 
   // Cells each keyframe observes, then their union over growing prefixes of the map.
   const double band = episode.config().collision.height_low;

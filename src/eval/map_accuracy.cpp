@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "valerant/common/median.h"
 #include "valerant/world/quake3/units.h"
 
 namespace valerant {
@@ -83,13 +84,6 @@ double reachOf(const cv::Mat& depth_m, const CameraIntrinsics& k, double agreeme
   const double ax = (std::max(k.cx, depth_m.cols - k.cx) + 0.5) / k.fx;
   const double ay = (std::max(k.cy, depth_m.rows - k.cy) + 0.5) / k.fy;
   return 1.01 * max_depth / (1 - agreement) * std::sqrt(1 + ax * ax + ay * ay);
-}
-
-double quantile(std::vector<double> values, double q) {
-  if (values.empty()) return std::nan("");
-  const size_t i = std::min(values.size() - 1, static_cast<size_t>(q * values.size()));
-  std::nth_element(values.begin(), values.begin() + i, values.end());
-  return values[i];
 }
 
 }  // namespace

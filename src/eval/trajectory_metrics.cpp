@@ -121,6 +121,23 @@ TrajectoryError trajectoryError(const std::vector<Eigen::Isometry3d>& estimate,
   return e;
 }
 
+std::vector<double> tiltErrorsDeg(const std::vector<Eigen::Isometry3d>& estimate,
+                                  const std::vector<Eigen::Isometry3d>& truth, const Eigen::Matrix3d& rotation,
+                                  const Eigen::Vector3d& up) {
+  if (estimate.size() != truth.size())
+    throw InputError("tilt error", "needs equally long trajectories (estimate " + std::to_string(estimate.size()) +
+                                       ", truth " + std::to_string(truth.size()) + ")");
+  const Eigen::Vector3d g = up.normalized();
+  std::vector<double> out;
+  out.reserve(estimate.size());
+  for (size_t i = 0; i < estimate.size(); ++i) {
+    const Eigen::Vector3d seen = truth[i].linear().transpose() * g;
+    const Eigen::Vector3d estimated = (rotation * estimate[i].linear()).transpose() * g;
+    out.push_back(std::atan2(seen.cross(estimated).norm(), seen.dot(estimated)) * 180 / M_PI);
+  }
+  return out;
+}
+
 DepthError depthError(const std::vector<cv::Mat>& estimate, const std::vector<cv::Mat>& confidence,
                       const std::vector<cv::Mat>& truth, double min_confidence) {
   if (estimate.size() != truth.size() || confidence.size() != truth.size())

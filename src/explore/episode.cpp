@@ -59,7 +59,7 @@ Episode::Episode(WorldModel& world, std::unique_ptr<BranchPipeline> own_pipeline
   appendCommittedTruth(truth_, std::vector<FrameTruth>(context.truth.begin(),
                                                         context.truth.begin() + std::min(context.truth.size(), start.poses.size())));
   anchorGrid(start.floor_reliable);
-  if (loop_closure_) loop_closure_->commit(start, 0, anchor_kappa_, map_, trajectory_);
+  if (loop_closure_) loop_closure_->commit(start, 0, anchor_floor_, map_, trajectory_);
 }
 
 void Episode::anchorGrid(bool reliable_floor) {
@@ -390,7 +390,7 @@ void Episode::commit(const BranchResult& chosen, const std::vector<Eigen::Vector
                        ? std::optional<double>(makeActionSequence(chosen.verdict.candidate, config_).totalYawDeg())
                        : std::nullopt;
   // Maps the new poses and keyframes into the corrected frame; a closure moves older ones too.
-  const bool closed = loop_closure_ && loop_closure_->commit(chosen, committed_steps_ + 1, anchor_kappa_, map_, trajectory_);
+  const bool closed = loop_closure_ && loop_closure_->commit(chosen, committed_steps_ + 1, anchor_floor_, map_, trajectory_);
   ++committed_steps_;
   if (!anchored_on_reliable_floor_ && chosen.floor_reliable) {
     anchorGrid(true);

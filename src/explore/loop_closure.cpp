@@ -44,7 +44,7 @@ void LoopClosure::correct(MapKeyframe& keyframe) {
   for (const FusedPoint& p : keyframe.corrected->points) keyframe.extent.extend(p.position.cast<double>());
 }
 
-bool LoopClosure::commit(const BranchResult& result, int step, double eye_height, MapFusion& map,
+bool LoopClosure::commit(const BranchResult& result, int step, const FloorPlane& anchor, MapFusion& map,
                          std::vector<Eigen::Isometry3d>& trajectory) {
   const std::string what = "loop closure at step " + std::to_string(step);
   if (trajectory.size() != odometry_.size() + result.poses.size())
@@ -53,7 +53,9 @@ bool LoopClosure::commit(const BranchResult& result, int step, double eye_height
     throw InputError(what, "keyframes and floors differ in length");
   const size_t first_frame = odometry_.size();
   const size_t first_keyframe = keyframes_.size();
+  const double eye_height = anchor.cameraHeight();
   eye_height_ = eye_height;
+  up_ = anchor.known ? anchor.n.normalized() : Eigen::Vector3d::Zero();
   const size_t first_node = nodes_.size();
   const Similarity3 before = latestCorrection();
 
@@ -63,7 +65,9 @@ bool LoopClosure::commit(const BranchResult& result, int step, double eye_height
   for (size_t r = 0; r < result.keyframes.size(); ++r) {
     const KeyframeCloud& kf = result.keyframes[r];
     Node node{kf.camera_to_map, before, nullptr};
-    if (result.keyframe_floors[r].known) node.kappa = result.keyframe_floors[r].cameraHeight();
+    const FloorPlane& floor = result.keyframe_floors[r];
+    if (floor.known) node.kappa = floor.cameraHeight();
+    if (floor.known && floor.reliable) node.floor_normal = kf.camera_to_map.linear().transpose() * floor.n.normalized();
     const long local = static_cast<long>(kf.frame) - static_cast<long>(first_frame);
     if (local >= 0 && local < static_cast<long>(result.rollout.frames.size()))
       node.features = std::make_shared<const KeyframeFeatures>(
@@ -90,9 +94,11 @@ bool LoopClosure::commit(const BranchResult& result, int step, double eye_height
   bool closed = false;
   for (size_t j = first_node; j < nodes_.size(); ++j) closed |= detect(j, step, eye_height);
   const bool rescaled = !closed && scaleDrifted(first_node, eye_height);
-  if (closed || rescaled) optimise(eye_height);
+  const bool levelled = !closed && !rescaled && levelDrifted(first_node);
+  const bool moved = closed || rescaled || levelled;
+  if (moved) optimise(eye_height);
   scale_corrections_ += rescaled;
-  const bool moved = closed || rescaled;
+  level_corrections_ += levelled;
   rewrite(moved ? 0 : first_keyframe, moved ? 0 : first_frame, map, trajectory);
   return moved;
 }
@@ -103,6 +109,15 @@ bool LoopClosure::scaleDrifted(size_t first, double eye_height) const {
   for (size_t j = std::max<size_t>(first, 1); j < nodes_.size(); ++j)
     if (nodes_[j].kappa > 0) off.push_back(std::abs(std::log(pose(j).scale * nodes_[j].kappa / eye_height)));
   return !off.empty() && median(std::move(off)) > std::log(1 + config_.eye_height_tolerance);
+}
+
+bool LoopClosure::levelDrifted(size_t first) const {
+  if (!(config_.level_weight > 0) || up_.isZero()) return false;
+  std::vector<double> off;  // angle of the new nodes' corrected floor normals to up, degrees
+  for (size_t j = std::max<size_t>(first, 1); j < nodes_.size(); ++j)
+    if (!nodes_[j].floor_normal.isZero())
+      off.push_back(std::acos(std::clamp((pose(j).rotation * nodes_[j].floor_normal).dot(up_), -1.0, 1.0)) * 180 / M_PI);
+  return !off.empty() && median(std::move(off)) > config_.level_tolerance_deg;
 }
 
 bool LoopClosure::detect(size_t j, int step, double eye_height) {
@@ -151,6 +166,11 @@ void LoopClosure::optimise(double eye_height) {
     for (const Node& node : nodes_)
       options.log_scale_targets.push_back(node.kappa > 0 ? std::log(eye_height / node.kappa)
                                                          : std::numeric_limits<double>::quiet_NaN());
+  }
+  if (config_.level_weight > 0 && !up_.isZero()) {
+    options.level_prior_weight = config_.level_weight;
+    options.up = up_;
+    for (const Node& node : nodes_) options.floor_normals_in_camera.push_back(node.floor_normal);
   }
   const std::vector<Similarity3> optimised = optimisePoseGraph(initial, edges, options);
   for (size_t i = 0; i < nodes_.size(); ++i)

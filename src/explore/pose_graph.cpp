@@ -60,6 +60,20 @@ struct ScalePriorResidual {
   double target_, weight_;
 };
 
+struct LevelPriorResidual {
+  LevelPriorResidual(const Eigen::Vector3d& normal_in_camera, const Eigen::Vector3d& up, double weight)
+      : normal_(normal_in_camera), up_(up), weight_(weight) {}
+  template <typename T>
+  bool operator()(const T* q, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> r(q);
+    const Eigen::Matrix<T, 3, 1> off = r * normal_.cast<T>() - up_.cast<T>();
+    for (int k = 0; k < 3; ++k) residual[k] = T(weight_) * off[k];
+    return true;
+  }
+  Eigen::Vector3d normal_, up_;
+  double weight_;
+};
+
 }  // namespace
 
 std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initial, const std::vector<PoseGraphEdge>& edges,
@@ -67,6 +81,9 @@ std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initi
   if (initial.empty()) throw InputError("pose graph", "has no node");
   if (!options.log_scale_targets.empty() && options.log_scale_targets.size() != initial.size())
     throw InputError("pose graph scale targets", std::to_string(options.log_scale_targets.size()) + " for " +
+                                                     std::to_string(initial.size()) + " nodes");
+  if (!options.floor_normals_in_camera.empty() && options.floor_normals_in_camera.size() != initial.size())
+    throw InputError("pose graph floor normals", std::to_string(options.floor_normals_in_camera.size()) + " for " +
                                                      std::to_string(initial.size()) + " nodes");
   std::vector<NodeBlocks> nodes(initial.size());
   for (size_t i = 0; i < initial.size(); ++i) {
@@ -94,6 +111,14 @@ std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initi
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<ScalePriorResidual, 1, 1>(
                                  new ScalePriorResidual(target, options.scale_prior_weight)),
                              new ceres::HuberLoss(options.scale_prior_weight * std::log(1.5)), &nodes[i].log_scale);
+  }
+  const double level_corner = options.level_prior_weight * 2 * std::sin(kLevelPriorCornerDeg * M_PI / 360);
+  for (size_t i = 1; options.level_prior_weight > 0 && i < options.floor_normals_in_camera.size(); ++i) {
+    const Eigen::Vector3d& normal = options.floor_normals_in_camera[i];
+    if (normal.isZero() || !problem.HasParameterBlock(nodes[i].rotation.data())) continue;
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<LevelPriorResidual, 3, 4>(
+                                 new LevelPriorResidual(normal.normalized(), options.up.normalized(), options.level_prior_weight)),
+                             new ceres::HuberLoss(level_corner), nodes[i].rotation.data());
   }
   for (size_t i = 0; i < nodes.size(); ++i) {
     NodeBlocks& n = nodes[i];

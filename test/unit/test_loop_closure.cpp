@@ -147,6 +147,43 @@ TEST(PoseGraph, AScalePriorPullsTheScaleAgainstTheEdges) {
   EXPECT_THROW(optimisePoseGraph(initial, edges, wrong), InputError);
 }
 
+// Node 1 one unit from node 0 by an odometry edge of no turn; its floor, measured in its
+// camera, stands theta off up (a tilt about x). Turning node 1 by phi about x costs phi^2
+// on the edge (its rotation residual; the translation residual does not involve R_1) and
+// w^2 |R_phi u - g|^2 = w^2 4 sin^2((theta - phi) / 2) on the prior: the minimum has
+// phi = w^2 sin(theta - phi), phi = theta / 2 at w = 1 and 4 theta / 5 at w = 2 to first
+// order (theta = 2 deg: within 1e-6 rad). Past the Huber corner a = w 2 sin(1.5 deg) the
+// prior pulls with a constant force: phi = a w cos((theta - phi) / 2), 2.994 deg for
+// theta = 10 deg at w = 1. Node 1 stays at x = 1.
+TEST(PoseGraph, ALevelPriorTurnsTheFloorTowardUpAgainstTheEdges) {
+  const std::vector<Similarity3> initial = {Similarity3{}, at(1, 0, 0)};
+  const std::vector<PoseGraphEdge> edges = {{0, 1, at(1, 0, 0)}};
+  const Eigen::Vector3d up(0, -1, 0);
+  auto tiltWith = [&](double theta_deg, double weight) {
+    PoseGraphOptions options{true, 1.0, 100, {}, 0};
+    const Eigen::Vector3d tilted = Eigen::AngleAxisd(-theta_deg * M_PI / 180, Eigen::Vector3d::UnitX()) * up;
+    options.floor_normals_in_camera = {Eigen::Vector3d::Zero(), tilted};
+    options.up = up;
+    options.level_prior_weight = weight;
+    const auto out = optimisePoseGraph(initial, edges, options);
+    EXPECT_NEAR(out[1].translation.x(), 1, 1e-6);
+    EXPECT_NEAR(out[1].scale, 1, 1e-9);
+    const Eigen::AngleAxisd turn(out[1].rotation);
+    if (turn.angle() > 1e-9) EXPECT_NEAR(std::abs(turn.axis().x()), 1, 1e-6);  // about x alone
+    return turn.angle() * (turn.axis().x() >= 0 ? 1 : -1) * 180 / M_PI;
+  };
+  // Within Ceres' stopping tolerances (about 1e-5 rad here, 1e-4 past the corner); without
+  // the corner theta = 10 deg would give about 5 deg.
+  EXPECT_NEAR(tiltWith(2, 1), 1.0, 1e-3);
+  EXPECT_NEAR(tiltWith(2, 2), 1.6, 1e-3);
+  EXPECT_NEAR(tiltWith(10, 1), 2.994, 1e-2);
+  EXPECT_NEAR(tiltWith(2, 0), 0, 1e-9);  // weight 0: no prior
+  PoseGraphOptions wrong{true, 1.0, 100, {}, 0};
+  wrong.floor_normals_in_camera = {up};  // one normal for two nodes
+  wrong.level_prior_weight = 1;
+  EXPECT_THROW(optimisePoseGraph(initial, edges, wrong), InputError);
+}
+
 TEST(PoseGraph, AnEdgeToAMissingNodeIsAnError) {
   EXPECT_THROW(optimisePoseGraph({Similarity3{}, Similarity3{}}, {{0, 2, Similarity3{}}}, PoseGraphOptions{}), InputError);
   EXPECT_THROW(optimisePoseGraph({}, {}, PoseGraphOptions{}), InputError);
@@ -186,6 +223,17 @@ namespace {
 // 320x240 with a 90 deg field of view: fx = 160, so the view shifts 40 px per unit of x.
 constexpr double kWallZ = 4;
 const CameraIntrinsics kCamera = CameraIntrinsics::fromHorizontalFov(320, 240, 90);
+
+// The episode's anchor floor in these scenes: one unit under a camera at the origin
+// (kappa_0 = 1), y down (the camera's), so up is -y.
+FloorPlane anchorFloor() {
+  FloorPlane floor;
+  floor.c = Eigen::Vector3d::Zero();
+  floor.q = {0, 1, 0};
+  floor.n = {0, -1, 0};
+  return floor;
+}
+const FloorPlane kAnchor = anchorFloor();
 
 cv::Mat wallTexture(uint64_t seed) {
   cv::Mat texture(240, 1600, CV_8UC3, cv::Scalar(90, 90, 90));
@@ -331,10 +379,10 @@ TEST(LoopClosure, AReturnToAMappedPlaceCorrectsThePathAndARewindUndoesIt) {
   Corridor corridor;
   BranchResult start = corridor.walk(-0.25, 0);  // the context: one frame at x = 0
   fuse(start, map, trajectory);
-  EXPECT_FALSE(closure.commit(start, 0, 1.0, map, trajectory));
+  EXPECT_FALSE(closure.commit(start, 0, kAnchor, map, trajectory));
   const BranchResult out = corridor.walk(0, 3);
   fuse(out, map, trajectory);
-  EXPECT_FALSE(closure.commit(out, 1, 1.0, map, trajectory));  // nothing old enough nearby
+  EXPECT_FALSE(closure.commit(out, 1, kAnchor, map, trajectory));  // nothing old enough nearby
   EXPECT_EQ(closure.made(), 0u);
 
   const LoopClosure before = closure;  // what a checkpoint keeps
@@ -346,7 +394,7 @@ TEST(LoopClosure, AReturnToAMappedPlaceCorrectsThePathAndARewindUndoesIt) {
   fuse(back, map, trajectory);
   const double drifted = trajectory.back().translation().x() - 0.25;
   EXPECT_NEAR(drifted, 0.02 * 23, 1e-9);
-  EXPECT_TRUE(closure.commit(back, 2, 1.0, map, trajectory));
+  EXPECT_TRUE(closure.commit(back, 2, kAnchor, map, trajectory));
   EXPECT_GT(closure.made(), 0u);
   EXPECT_LT(std::abs(trajectory.back().translation().x() - 0.25), 0.1);
   EXPECT_EQ(trajectory.size(), corridor.frames);
@@ -394,7 +442,7 @@ Config eyeHeightAlone(double weight) {
 void fuseAndCommit(const BranchResult& r, int step, LoopClosure& closure, MapFusion& map,
                    std::vector<Eigen::Isometry3d>& trajectory, bool moves) {
   fuse(r, map, trajectory);
-  EXPECT_EQ(closure.commit(r, step, 1.0, map, trajectory), moves) << "step " << step;
+  EXPECT_EQ(closure.commit(r, step, kAnchor, map, trajectory), moves) << "step " << step;
 }
 
 // The start (1 over its floor, kappa_0 = 1) and commit A (a keyframe at x = 0.25, 0.8 over
@@ -419,10 +467,10 @@ TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
     std::vector<Eigen::Isometry3d> trajectory;
     const BranchResult start = keyframesAt({0}, 1.0, 0);
     fuse(start, map, trajectory);
-    EXPECT_FALSE(closure.commit(start, 0, 1.0, map, trajectory));
+    EXPECT_FALSE(closure.commit(start, 0, kAnchor, map, trajectory));
     const BranchResult next = keyframesAt({0.25}, kappa, 1);
     fuse(next, map, trajectory);
-    const bool moved = closure.commit(next, 1, 1.0, map, trajectory);
+    const bool moved = closure.commit(next, 1, kAnchor, map, trajectory);
     EXPECT_EQ(closure.scaleCorrections(), moved ? 1u : 0u);
     EXPECT_EQ(closure.made(), 0u);
     return std::pair{moved, closure.correction(1).scale};
@@ -432,6 +480,50 @@ TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
   EXPECT_NEAR(scale, std::sqrt(1 / 0.8), 1e-4);
   EXPECT_EQ(run(0, 0.8), std::pair(false, 1.0));
   EXPECT_EQ(run(1, 0.95), std::pair(false, 1.0));
+}
+
+// The start stands level over its floor (kappa_0 = 1, up -y); the next commit's one
+// keyframe at x = 0.25 has a floor fitted on it whose normal stands 2 deg off up (a tilt
+// about x), its eye still 1 over it. With the level factor alone (weight 1, tolerance
+// 1 deg) the commit corrects the tilt: by PoseGraph.ALevelPriorTurnsTheFloorTowardUpAgainstTheEdges
+// its node turns by 1 deg toward level, and the map's keyframe with it (its camera stays
+// where it was: the turn is about the node's camera). Off (weight 0), within the tolerance
+// (2.5 deg), or on a floor not fitted on the keyframe (propagated), nothing moves.
+TEST(LoopClosure, AKeyframeWhoseFloorStandsTiltedLevelsTheMap) {
+  auto run = [](double weight, double tolerance_deg, bool fitted) {
+    Config config;
+    config.loop_closure.enabled = true;
+    config.loop_closure.max_candidates = 0;
+    config.loop_closure.level_weight = weight;
+    config.loop_closure.level_tolerance_deg = tolerance_deg;
+    LoopClosure closure(config.loop_closure, kCamera, true);
+    MapFusion map(config.map, config.collision);
+    std::vector<Eigen::Isometry3d> trajectory;
+    fuseAndCommit(keyframesAt({0}, 1.0, 0), 0, closure, map, trajectory, false);
+    BranchResult next = keyframesAt({0.25}, 1.0, 1);
+    FloorPlane& floor = next.keyframe_floors[0];
+    floor.n = Eigen::AngleAxisd(-2 * M_PI / 180, Eigen::Vector3d::UnitX()) * kAnchor.n;
+    floor.q = floor.c - floor.n;
+    floor.reliable = fitted;
+    fuse(next, map, trajectory);
+    const bool moved = closure.commit(next, 1, kAnchor, map, trajectory);
+    EXPECT_EQ(closure.levelCorrections(), moved ? 1u : 0u);
+    EXPECT_EQ(closure.scaleCorrections(), 0u);
+    EXPECT_EQ(closure.corrections(), moved ? 1u : 0u);
+    const Eigen::AngleAxisd turn(closure.correction(1).rotation);
+    if (moved) {
+      EXPECT_NEAR(turn.angle() * 180 / M_PI, 1.0, 1e-3);
+      EXPECT_NEAR(std::abs(turn.axis().x()), 1, 1e-6);
+      EXPECT_NEAR((map.keyframes()[1]->camera_to_map.translation() - Eigen::Vector3d(0.25, 0, 0)).norm(), 0, 1e-6);
+      const Eigen::Vector3d corrected = closure.correction(1).rotation * floor.n;
+      EXPECT_NEAR(std::acos(corrected.dot(kAnchor.n)) * 180 / M_PI, 1.0, 1e-3);  // half the tilt left
+    }
+    return std::pair{moved, turn.angle()};
+  };
+  EXPECT_TRUE(run(1, 1.0, true).first);
+  EXPECT_EQ(run(0, 1.0, true), std::pair(false, 0.0));
+  EXPECT_EQ(run(1, 2.5, true), std::pair(false, 0.0));
+  EXPECT_EQ(run(1, 1.0, false), std::pair(false, 0.0));
 }
 
 // [ours] dead_pocket.keep_map. The start stands 1 over its floor; commit A's keyframe at
@@ -456,7 +548,7 @@ TEST(LoopClosure, ARewindThatKeepsTheMapKeepsTheDiscardedKeyframesOnTheAnchor) {
   const BranchResult b = keyframesAt({0.5}, 0.6, 2);
   fuse(b, map, trajectory);
   const std::shared_ptr<const FusedKeyframe> b_slam = map.keyframes()[2];  // as the SLAM made it
-  EXPECT_TRUE(closure.commit(b, 2, 1.0, map, trajectory));
+  EXPECT_TRUE(closure.commit(b, 2, kAnchor, map, trajectory));
   EXPECT_EQ(closure.corrections(), 2u);
   EXPECT_GT((map.keyframes()[1]->points.at(0).position - a_point).norm(), 1e-3);
 
@@ -474,7 +566,7 @@ TEST(LoopClosure, ARewindThatKeepsTheMapKeepsTheDiscardedKeyframesOnTheAnchor) {
 
   const BranchResult c = keyframesAt({0.25}, 0.8 * 0.8, 3);  // from A again, the scale as at A
   fuse(c, map, trajectory);
-  restored.commit(c, 2, 1.0, map, trajectory);
+  restored.commit(c, 2, kAnchor, map, trajectory);
   EXPECT_EQ(map.marker(), 4u);
   EXPECT_EQ(trajectory.size(), 3u);
   // A state the checkpoint did not lead to cannot lend it keyframes.
@@ -539,7 +631,7 @@ TEST(LoopClosure, ACommitThatDoesNotEndTheTrajectoryIsAnError) {
   std::vector<Eigen::Isometry3d> trajectory;
   Corridor corridor;
   const BranchResult r = corridor.walk(0, 1);
-  EXPECT_THROW(closure.commit(r, 1, 1.0, map, trajectory), InputError);
+  EXPECT_THROW(closure.commit(r, 1, kAnchor, map, trajectory), InputError);
 }
 
 TEST(CorrectedKeyframe, MovesPointsAndCameraUnderANewId) {
@@ -581,6 +673,8 @@ TEST(LoopClosureConfig, ShippedOffWithTheBuiltInValuesAndCheckedLikeTheRest) {
   EXPECT_EQ(c.eye_height_weight, built_in.eye_height_weight);  // 0: off
   EXPECT_EQ(c.eye_height_tolerance, built_in.eye_height_tolerance);
   EXPECT_EQ(c.rewrite_tolerance_eye_heights, built_in.rewrite_tolerance_eye_heights);
+  EXPECT_EQ(c.level_weight, built_in.level_weight);  // 0: off
+  EXPECT_EQ(c.level_tolerance_deg, built_in.level_tolerance_deg);
   const auto errorOf = [&](const std::string& assignment) {
     ConfigDocument d = ConfigDocument::load(shipped);
     d.setAssignment(assignment, "--set " + assignment);
@@ -601,5 +695,7 @@ TEST(LoopClosureConfig, ShippedOffWithTheBuiltInValuesAndCheckedLikeTheRest) {
   EXPECT_EQ(errorOf("loop_closure.rewrite_tolerance_eye_heights=2"),
             "--set loop_closure.rewrite_tolerance_eye_heights=2: loop_closure.rewrite_tolerance_eye_heights: value 2 "
             "outside [0, 1]");
+  EXPECT_EQ(errorOf("loop_closure.level_tolerance_deg=91"),
+            "--set loop_closure.level_tolerance_deg=91: loop_closure.level_tolerance_deg: value 91 outside [0, 90]");
   EXPECT_EQ(errorOf("loop_closure.enabled=true"), "");
 }

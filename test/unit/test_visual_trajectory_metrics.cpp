@@ -129,6 +129,42 @@ TEST(VisualMetrics, BadInputNamesTheProblem) {
   EXPECT_THROW(alignSim3(same, same), InputError);
 }
 
+// Truth: three level cameras looking along x (optical z along world x, y down). The
+// estimate: frame 0 the same; frame 1 pitched 3 deg (about its own x); frame 2 turned
+// 10 deg in heading (about world z) and rolled 4 deg (about its own z, the optical axis).
+// Rotated into the truth frame by the identity, the tilts are 0, 3 and 4 deg: heading does
+// not count. An alignment that turns the estimate 30 deg about world z changes none;
+// one that tips it 2 deg about world y adds 2 deg to the level frame 0.
+TEST(VisualMetrics, TiltErrorIsRollAndPitchBlindToHeading) {
+  Eigen::Matrix3d level;
+  level.col(0) = Eigen::Vector3d(0, -1, 0);  // optical x: world -y
+  level.col(1) = Eigen::Vector3d(0, 0, -1);  // optical y: world down
+  level.col(2) = Eigen::Vector3d(1, 0, 0);   // optical z: world x
+  const auto pose = [](const Eigen::Matrix3d& r) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = r;
+    return p;
+  };
+  const auto deg = [](double d) { return d * M_PI / 180; };
+  const std::vector<Eigen::Isometry3d> truth(3, pose(level));
+  const std::vector<Eigen::Isometry3d> estimate = {
+      pose(level), pose(level * Eigen::AngleAxisd(deg(3), Eigen::Vector3d::UnitX()).toRotationMatrix()),
+      pose(Eigen::AngleAxisd(deg(10), Eigen::Vector3d::UnitZ()).toRotationMatrix() * level *
+           Eigen::AngleAxisd(deg(4), Eigen::Vector3d::UnitZ()).toRotationMatrix())};
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const auto tilts = tiltErrorsDeg(estimate, truth, Eigen::Matrix3d::Identity(), up);
+  ASSERT_EQ(tilts.size(), 3u);
+  EXPECT_NEAR(tilts[0], 0, 1e-9);
+  EXPECT_NEAR(tilts[1], 3, 1e-9);
+  EXPECT_NEAR(tilts[2], 4, 1e-9);
+  const auto turned = tiltErrorsDeg(estimate, truth, Eigen::AngleAxisd(deg(30), up).toRotationMatrix(), up);
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(turned[i], tilts[i], 1e-9);
+  const auto tipped =
+      tiltErrorsDeg(estimate, truth, Eigen::AngleAxisd(deg(2), Eigen::Vector3d::UnitY()).toRotationMatrix(), up);
+  EXPECT_NEAR(tipped[0], 2, 1e-9);
+  EXPECT_THROW(tiltErrorsDeg(estimate, {truth[0]}, Eigen::Matrix3d::Identity(), up), InputError);
+}
+
 TEST(VisualMetrics, DepthAbsRelIsScaleInvariant) {
   cv::Mat truth(4, 4, CV_32F, cv::Scalar(2.0f)), est, conf(4, 4, CV_32F, cv::Scalar(5.0f));
   truth.at<float>(0, 0) = std::nanf("");

@@ -335,6 +335,14 @@ struct LoopClosureConfig {
   // [ours] ... and a commit whose new keyframes' corrected eye heights are off kappa_0 by
   // more than this share (their median) optimises the graph, as a closure does.
   double eye_height_tolerance = 0.1;
+  // [ours] > 0: every keyframe node with a floor fitted on it also holds its roll and
+  // pitch to level, a residual w (R_i u_i - g) (u_i its floor normal in camera coordinates,
+  // g the anchor floor's): the visual SLAM tilts too, and each keyframe's floor measures
+  // by how much (docs/floor_in_view.md). 0 = off.
+  double level_weight = 0;
+  // [ours] ... and a commit whose new keyframes' corrected floors stand off level by more
+  // than this angle (their median, degrees) optimises the graph, as a closure does.
+  double level_tolerance_deg = 1.0;
   // [ours] a correction that moves no point of a map keyframe's current copy by more than
   // this (eye heights) keeps that copy: half the map's voxel leaf. 0 = copy every keyframe
   // the graph moved at all.

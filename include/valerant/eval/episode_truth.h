@@ -64,6 +64,10 @@ struct EpisodeTruth {
   // path length; NaN unless `aligned` (a floor tie fits no path), null in report.json.
   double alignment_rmse_m = std::numeric_limits<double>::quiet_NaN();
   double ate_percent = std::numeric_limits<double>::quiet_NaN();
+  // Roll and pitch error of the committed frames under the alignment (tiltErrorsDeg, up
+  // the BSP's +z), median and 90th percentile; NaN unless aligned or floor-tied.
+  double tilt_median_deg = std::numeric_limits<double>::quiet_NaN();
+  double tilt_p90_deg = std::numeric_limits<double>::quiet_NaN();
   int verdicts = 0;              // candidate evaluations with ground truth
   int truly_colliding = 0;       // candidates whose frames penetrate (in solid or outside the world)
   int predicted_colliding = 0;   // candidates rejected by a collision test

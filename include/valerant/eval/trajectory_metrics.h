@@ -48,6 +48,14 @@ struct TrajectoryError {
 TrajectoryError trajectoryError(const std::vector<Eigen::Isometry3d>& estimate,
                                 const std::vector<Eigen::Isometry3d>& truth);
 
+// Roll and pitch error per frame, degrees: the angle between the world's `up` (in the
+// truth frame) as the true camera sees it and as the estimated camera sees it once
+// rotated into the truth frame by `rotation` (an alignment's). A heading error leaves it
+// unchanged. Throws InputError for different lengths.
+std::vector<double> tiltErrorsDeg(const std::vector<Eigen::Isometry3d>& estimate,
+                                  const std::vector<Eigen::Isometry3d>& truth, const Eigen::Matrix3d& rotation,
+                                  const Eigen::Vector3d& up);
+
 struct DepthError {
   double abs_rel = 0;             // mean |s d - d*| / d* over confident pixels (NaN: none)
   double scale = 0;               // s: median of d* / d over confident pixels

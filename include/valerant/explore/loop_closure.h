@@ -22,6 +22,12 @@
 // median) optimises and rewrites the map as a closure does (a scale correction): the
 // visual SLAM's scale drifts, and the floor under each keyframe measures by how much.
 //
+// [ours] Level (loop_closure.level_weight > 0): each node with a floor fitted on it also
+// keeps that floor's normal in camera coordinates, and the graph holds its roll and pitch
+// so that the normal points along the anchor floor's (pose_graph.h). A commit whose new
+// keyframes' floors stand, by the latest correction, more than level_tolerance_deg off
+// level (their median) optimises and rewrites the map too (a level correction).
+//
 // Only commits reach it, so candidate branches never close loops; a copy of it is
 // part of every checkpoint, so a rewind to before a closure undoes the closure.
 #include <Eigen/Geometry>
@@ -35,6 +41,7 @@
 #include "valerant/explore/keyframe_features.h"
 #include "valerant/explore/loop_verifier.h"
 #include "valerant/explore/pose_graph.h"
+#include "valerant/geometry/floor_plane.h"
 #include "valerant/geometry/similarity3.h"
 #include "valerant/map/map_fusion.h"
 
@@ -56,10 +63,11 @@ class LoopClosure {
   // After the episode fused `result`'s keyframes of known floor into `map` (its last
   // ones) and appended its poses to `trajectory`, both as the SLAM made them: maps them
   // into the corrected frame, looks for loops from its keyframes and, when it found
-  // any, optimises and rewrites all of `map` and `trajectory`; so does a scale correction.
-  // `eye_height`: one eye height in map units (kappa_0). Returns true when earlier
+  // any, optimises and rewrites all of `map` and `trajectory`; so do scale and level
+  // corrections. `anchor`: the episode's anchor floor in the map frame, whose camera
+  // height is one eye height (kappa_0) and whose normal is up. Returns true when earlier
   // keyframes and frames moved.
-  bool commit(const BranchResult& result, int step, double eye_height, MapFusion& map,
+  bool commit(const BranchResult& result, int step, const FloorPlane& anchor, MapFusion& map,
               std::vector<Eigen::Isometry3d>& trajectory);
   // Puts this state's map and trajectory back into the episode's (after a rewind).
   void restoreInto(MapFusion& map, std::vector<Eigen::Isometry3d>& trajectory) const;
@@ -69,7 +77,7 @@ class LoopClosure {
   // whose SLAM state they descend from) or on its own node where this state still holds it.
   void keepKeyframesOf(const LoopClosure& left);
   // Closures and scale corrections made so far: a state that made more has moved the map.
-  size_t corrections() const { return loops_.size() + scale_corrections_; }
+  size_t corrections() const { return loops_.size() + scale_corrections_ + level_corrections_; }
 
   // SLAM-frame poses in the corrected map frame, by the latest correction.
   std::vector<Eigen::Isometry3d> toMap(const std::vector<Eigen::Isometry3d>& slam_poses) const;
@@ -80,6 +88,8 @@ class LoopClosure {
   size_t made() const { return loops_.size(); }
   // Commits that optimised the graph for the eye height alone.
   size_t scaleCorrections() const { return scale_corrections_; }
+  // Commits that optimised the graph for level alone.
+  size_t levelCorrections() const { return level_corrections_; }
   // Corrected copies of map keyframes made so far (a keyframe no correction moves has none).
   size_t keyframesRewritten() const { return keyframes_rewritten_; }
   size_t keyframes() const { return nodes_.size(); }
@@ -92,6 +102,7 @@ class LoopClosure {
     Similarity3 correction;             // SLAM frame -> map frame
     std::shared_ptr<const KeyframeFeatures> features;  // null without an image
     double kappa = std::numeric_limits<double>::quiet_NaN();  // camera-to-floor, SLAM units; NaN: floor unknown
+    Eigen::Vector3d floor_normal = Eigen::Vector3d::Zero();  // camera coordinates; zero: no floor fitted on it
   };
   Similarity3 pose(size_t node) const { return nodes_[node].correction * Similarity3::fromIsometry(nodes_[node].odometry); }
   Similarity3 latestCorrection() const { return nodes_.empty() ? Similarity3{} : nodes_.back().correction; }
@@ -114,6 +125,8 @@ class LoopClosure {
   void optimise(double eye_height);
   // Whether the nodes from `first` stand off `eye_height` by more than the tolerance.
   bool scaleDrifted(size_t first, double eye_height) const;
+  // Whether the nodes from `first` stand off level by more than the tolerance.
+  bool levelDrifted(size_t first) const;
   // Rewrites map keyframes from `first_keyframe` and frames from `first_frame`.
   void rewrite(size_t first_keyframe, size_t first_frame, MapFusion& map, std::vector<Eigen::Isometry3d>& trajectory);
 
@@ -123,8 +136,10 @@ class LoopClosure {
   std::vector<Node> nodes_;
   std::vector<PoseGraphEdge> loops_;
   size_t scale_corrections_ = 0;
+  size_t level_corrections_ = 0;
   size_t keyframes_rewritten_ = 0;
   double eye_height_ = 0;  // kappa_0 of the last commit, in map units: the tolerance's unit
+  Eigen::Vector3d up_ = Eigen::Vector3d::Zero();  // the anchor floor's normal (zero: unknown, no level)
   std::vector<LoopClosureRecord> records_;
   std::vector<MapKeyframe> keyframes_;  // aligned with the episode's map
   // Aligned with the episode's trajectory: SLAM poses and the node each follows (-1:

@@ -13,6 +13,14 @@
 // adds the residual w (ln s_i - tau_i), under a Huber loss past w ln 1.5, so that one
 // keyframe whose floor was another storey's does not pull the graph. LoopClosure sets
 // tau_i = ln(kappa_0 / kappa_i): the scale at which its eye stands kappa_0 over its floor.
+//
+// [ours] Level priors (loop_closure.level_weight): a node i with u_i, its floor's unit
+// normal in camera coordinates, adds the residual w (R_i u_i - g) (3), g the map's up
+// (the anchor floor's normal), under a Huber loss past w 2 sin(3 deg / 2): a keyframe on
+// a ramp does not tilt the graph. Its norm is w 2 sin(theta / 2), theta the angle by which
+// the node's floor stands off level. A monocular SLAM drifts in roll and pitch too, and
+// every keyframe's floor measures its own.
+#include <Eigen/Core>
 #include <cstddef>
 #include <vector>
 
@@ -33,11 +41,19 @@ struct PoseGraphOptions {
   // positive weight.
   std::vector<double> log_scale_targets;
   double scale_prior_weight = 0;
+  // One floor normal in camera coordinates per node (zero: none) or empty, and the map's
+  // up; used with a positive weight.
+  std::vector<Eigen::Vector3d> floor_normals_in_camera;
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  double level_prior_weight = 0;
 };
 
+// The Huber corner of a level prior, as an angle off level.
+constexpr double kLevelPriorCornerDeg = 3.0;
+
 // The optimised nodes; `initial` (at least one) is the starting point. Throws
-// InputError for an edge naming a node that does not exist, or scale targets that are
-// not one per node.
+// InputError for an edge naming a node that does not exist, or scale targets or floor
+// normals that are not one per node.
 std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initial, const std::vector<PoseGraphEdge>& edges,
                                     const PoseGraphOptions& options);
 
