@@ -125,6 +125,8 @@ nlohmann::json loopClosures(const Episode& episode) {
   out["keyframes"] = closure->keyframes();
   out["scale_corrections"] = closure->scaleCorrections();  // loop_closure.eye_height_weight
   out["level_corrections"] = closure->levelCorrections();  // loop_closure.level_weight
+  out["optimisations"] = closure->optimisations();
+  out["unconverged_optimisations"] = closure->unconvergedOptimisations();  // stopped at max_iterations
   out["keyframes_rewritten"] = closure->keyframesRewritten();  // corrected copies made
   const size_t n = std::min(closure->odometry().size(), episode.truth().size());
   if (n > 0) {

@@ -172,7 +172,10 @@ void LoopClosure::optimise(double eye_height) {
     options.up = up_;
     for (const Node& node : nodes_) options.floor_normals_in_camera.push_back(node.floor_normal);
   }
-  const std::vector<Similarity3> optimised = optimisePoseGraph(initial, edges, options);
+  const PoseGraphSolution solution = optimisePoseGraph(initial, edges, options);
+  ++optimisations_;
+  unconverged_ += !solution.converged;
+  const std::vector<Similarity3>& optimised = solution.nodes;
   for (size_t i = 0; i < nodes_.size(); ++i)
     nodes_[i].correction = optimised[i] * Similarity3::fromIsometry(nodes_[i].odometry).inverse();
 }

@@ -76,7 +76,7 @@ struct LevelPriorResidual {
 
 }  // namespace
 
-std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initial, const std::vector<PoseGraphEdge>& edges,
+PoseGraphSolution optimisePoseGraph(const std::vector<Similarity3>& initial, const std::vector<PoseGraphEdge>& edges,
                                     const PoseGraphOptions& options) {
   if (initial.empty()) throw InputError("pose graph", "has no node");
   if (!options.log_scale_targets.empty() && options.log_scale_targets.size() != initial.size())
@@ -138,14 +138,18 @@ std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initi
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
 
-  std::vector<Similarity3> out(nodes.size());
+  PoseGraphSolution solution;
+  solution.converged = summary.termination_type == ceres::CONVERGENCE;
+  solution.iterations = static_cast<int>(summary.iterations.size());
+  std::vector<Similarity3>& out = solution.nodes;
+  out.resize(nodes.size());
   for (size_t i = 0; i < nodes.size(); ++i) {
     const NodeBlocks& n = nodes[i];
     out[i].rotation = Eigen::Quaterniond(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]).normalized();
     out[i].translation = Eigen::Vector3d(n.translation[0], n.translation[1], n.translation[2]);
     out[i].scale = std::exp(n.log_scale);
   }
-  return out;
+  return solution;
 }
 
 }  // namespace valerant

@@ -90,6 +90,9 @@ class LoopClosure {
   size_t scaleCorrections() const { return scale_corrections_; }
   // Commits that optimised the graph for level alone.
   size_t levelCorrections() const { return level_corrections_; }
+  // Graph optimisations so far, and those Ceres ended without converging (max_iterations).
+  size_t optimisations() const { return optimisations_; }
+  size_t unconvergedOptimisations() const { return unconverged_; }
   // Corrected copies of map keyframes made so far (a keyframe no correction moves has none).
   size_t keyframesRewritten() const { return keyframes_rewritten_; }
   size_t keyframes() const { return nodes_.size(); }
@@ -137,6 +140,8 @@ class LoopClosure {
   std::vector<PoseGraphEdge> loops_;
   size_t scale_corrections_ = 0;
   size_t level_corrections_ = 0;
+  size_t optimisations_ = 0;
+  size_t unconverged_ = 0;
   size_t keyframes_rewritten_ = 0;
   double eye_height_ = 0;  // kappa_0 of the last commit, in map units: the tolerance's unit
   Eigen::Vector3d up_ = Eigen::Vector3d::Zero();  // the anchor floor's normal (zero: unknown, no level)

@@ -51,10 +51,16 @@ struct PoseGraphOptions {
 // The Huber corner of a level prior, as an angle off level.
 constexpr double kLevelPriorCornerDeg = 3.0;
 
+struct PoseGraphSolution {
+  std::vector<Similarity3> nodes;  // optimised, one per initial node
+  bool converged = false;          // Ceres met a convergence tolerance within max_iterations
+  int iterations = 0;
+};
+
 // The optimised nodes; `initial` (at least one) is the starting point. Throws
 // InputError for an edge naming a node that does not exist, or scale targets or floor
 // normals that are not one per node.
-std::vector<Similarity3> optimisePoseGraph(const std::vector<Similarity3>& initial, const std::vector<PoseGraphEdge>& edges,
+PoseGraphSolution optimisePoseGraph(const std::vector<Similarity3>& initial, const std::vector<PoseGraphEdge>& edges,
                                     const PoseGraphOptions& options);
 
 }  // namespace valerant
