@@ -65,9 +65,13 @@ bool LoopClosure::commit(const BranchResult& result, int step, const FloorPlane&
   for (size_t r = 0; r < result.keyframes.size(); ++r) {
     const KeyframeCloud& kf = result.keyframes[r];
     Node node{kf.camera_to_map, before, nullptr};
+    // A turn in place has no baseline: its keyframes' floors rest on the depth prior and
+    // the map it sweeps against, so they measure neither scale nor level (on oa_dm5 one
+    // turn's correction undid half the floor observed, docs/floor_in_view.md).
     const FloorPlane& floor = result.keyframe_floors[r];
-    if (floor.known) node.kappa = floor.cameraHeight();
-    if (floor.known && floor.reliable) node.floor_normal = kf.camera_to_map.linear().transpose() * floor.n.normalized();
+    const bool measures = floor.known && !result.verdict.rotation_only;
+    if (measures) node.kappa = floor.cameraHeight();
+    if (measures && floor.reliable) node.floor_normal = kf.camera_to_map.linear().transpose() * floor.n.normalized();
     const long local = static_cast<long>(kf.frame) - static_cast<long>(first_frame);
     if (local >= 0 && local < static_cast<long>(result.rollout.frames.size()))
       node.features = std::make_shared<const KeyframeFeatures>(

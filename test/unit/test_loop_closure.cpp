@@ -461,10 +461,11 @@ void commitStartAndA(LoopClosure& closure, MapFusion& map, std::vector<Eigen::Is
 // 0.8 over its own: the SLAM's scale shrank by 0.8, 0.22 in ln against the tolerance's
 // ln 1.1 = 0.095, so the commit corrects the scale alone (no loop candidate, max_candidates
 // 0). By PoseGraph.AScalePriorPullsTheScaleAgainstTheEdges at w = 1 its node takes scale
-// (1 / 0.8)^(1/2) = 1.118, and the map's keyframe with it. Off (weight 0), or within the
-// tolerance (0.95 over its floor), nothing moves.
+// (1 / 0.8)^(1/2) = 1.118, and the map's keyframe with it. Off (weight 0), within the
+// tolerance (0.95 over its floor), or when the commit is a turn in place (no baseline: its
+// floor measures no scale), nothing moves.
 TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
-  auto run = [](double weight, double kappa) {
+  auto run = [](double weight, double kappa, bool turn = false) {
     const Config config = eyeHeightAlone(weight);
     LoopClosure closure(config.loop_closure, kCamera, true);
     MapFusion map(config.map, config.collision);
@@ -472,7 +473,8 @@ TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
     const BranchResult start = keyframesAt({0}, 1.0, 0);
     fuse(start, map, trajectory);
     EXPECT_FALSE(closure.commit(start, 0, kAnchor, map, trajectory));
-    const BranchResult next = keyframesAt({0.25}, kappa, 1);
+    BranchResult next = keyframesAt({0.25}, kappa, 1);
+    next.verdict.rotation_only = turn;
     fuse(next, map, trajectory);
     const bool moved = closure.commit(next, 1, kAnchor, map, trajectory);
     EXPECT_EQ(closure.scaleCorrections(), moved ? 1u : 0u);
@@ -484,6 +486,7 @@ TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
   EXPECT_NEAR(scale, std::sqrt(1 / 0.8), 1e-4);
   EXPECT_EQ(run(0, 0.8), std::pair(false, 1.0));
   EXPECT_EQ(run(1, 0.95), std::pair(false, 1.0));
+  EXPECT_EQ(run(1, 0.8, true), std::pair(false, 1.0));
 }
 
 // The start stands level over its floor (kappa_0 = 1, up -y); the next commit's one
@@ -494,7 +497,7 @@ TEST(LoopClosure, AKeyframeWhoseEyeStandsLowRescalesTheMap) {
 // where it was: the turn is about the node's camera). Off (weight 0), within the tolerance
 // (2.5 deg), or on a floor not fitted on the keyframe (propagated), nothing moves.
 TEST(LoopClosure, AKeyframeWhoseFloorStandsTiltedLevelsTheMap) {
-  auto run = [](double weight, double tolerance_deg, bool fitted, double heading_deg = 0) {
+  auto run = [](double weight, double tolerance_deg, bool fitted, double heading_deg = 0, bool in_place = false) {
     Config config;
     config.loop_closure.enabled = true;
     config.loop_closure.max_candidates = 0;
@@ -509,6 +512,7 @@ TEST(LoopClosure, AKeyframeWhoseFloorStandsTiltedLevelsTheMap) {
     floor.n = Eigen::AngleAxisd(-2 * M_PI / 180, Eigen::Vector3d::UnitX()) * kAnchor.n;
     floor.q = floor.c - floor.n;
     floor.reliable = fitted;
+    next.verdict.rotation_only = in_place;
     // The camera's heading (a turn about up) changes its floor normal's camera coordinates,
     // not the correction: the odometry edge penalises the correction's angle alone.
     const Eigen::Matrix3d heading = Eigen::AngleAxisd(heading_deg * M_PI / 180, kAnchor.n).toRotationMatrix();
@@ -534,6 +538,7 @@ TEST(LoopClosure, AKeyframeWhoseFloorStandsTiltedLevelsTheMap) {
   EXPECT_EQ(run(0, 1.0, true), std::pair(false, 0.0));
   EXPECT_EQ(run(1, 2.5, true), std::pair(false, 0.0));
   EXPECT_EQ(run(1, 1.0, false), std::pair(false, 0.0));
+  EXPECT_EQ(run(1, 1.0, true, 0, true), std::pair(false, 0.0));  // a turn in place measures no level
 }
 
 // [ours] dead_pocket.keep_map. The start stands 1 over its floor; commit A's keyframe at
