@@ -76,7 +76,7 @@ class LoopClosure {
   // are no graph nodes: each rides on the latest node this state has (the rewind's anchor,
   // whose SLAM state they descend from) or on its own node where this state still holds it.
   void keepKeyframesOf(const LoopClosure& left);
-  // Closures and scale corrections made so far: a state that made more has moved the map.
+  // Closures, scale and level corrections made so far: a state that made more has moved the map.
   size_t corrections() const { return loops_.size() + scale_corrections_ + level_corrections_; }
 
   // SLAM-frame poses in the corrected map frame, by the latest correction.
