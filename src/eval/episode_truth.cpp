@@ -122,30 +122,31 @@ std::set<ReachableCells::CellStorey> ReachableCells::inViewOf(const FrameTruth& 
 
 namespace {
 
-// The committed frames' roll and pitch errors under `alignment` (the BSP's up is +z).
-std::vector<double> committedTiltsDeg(const Episode& episode, const Sim3& alignment) {
+// The committed frames' estimated poses (map units) beside their true ones (BSP
+// frame, metres), as many as both exist for.
+struct CommittedPoses {
+  std::vector<Eigen::Isometry3d> estimate, truth_metres;
+};
+
+CommittedPoses committedPoses(const Episode& episode) {
+  CommittedPoses p;
   const size_t n = std::min(episode.trajectory().size(), episode.truth().size());
-  std::vector<Eigen::Isometry3d> truth;
-  for (size_t i = 0; i < n; ++i) truth.push_back(episode.truth()[i].camera_to_world);
-  return tiltErrorsDeg(std::vector<Eigen::Isometry3d>(episode.trajectory().begin(), episode.trajectory().begin() + n),
-                       truth, alignment.rotation, Eigen::Vector3d::UnitZ());
+  p.estimate.assign(episode.trajectory().begin(), episode.trajectory().begin() + n);
+  for (size_t i = 0; i < n; ++i) {
+    Eigen::Isometry3d pose = episode.truth()[i].camera_to_world;
+    pose.translation() /= quake3::kUnitsPerMetre;
+    p.truth_metres.push_back(pose);
+  }
+  return p;
 }
 
 }  // namespace
 
 EpisodeAlignment alignEpisode(const Episode& episode) {
   EpisodeAlignment a;
-  const auto& truth = episode.truth();
-  const size_t n = std::min(episode.trajectory().size(), truth.size());
-  if (n == 0) return a;
-  std::vector<Eigen::Isometry3d> truth_metres;
-  for (size_t i = 0; i < n; ++i) {
-    Eigen::Isometry3d pose = truth[i].camera_to_world;
-    pose.translation() /= quake3::kUnitsPerMetre;
-    truth_metres.push_back(pose);
-  }
-  const TrajectoryError ate = trajectoryError(
-      std::vector<Eigen::Isometry3d>(episode.trajectory().begin(), episode.trajectory().begin() + n), truth_metres);
+  const CommittedPoses poses = committedPoses(episode);
+  if (poses.estimate.empty()) return a;
+  const TrajectoryError ate = trajectoryError(poses.estimate, poses.truth_metres);
   a.aligned = ate.aligned;
   if (a.aligned) {
     a.map_to_world_metres = ate.alignment;
@@ -160,9 +161,9 @@ EpisodeAlignment alignEpisode(const Episode& episode) {
   const Eigen::Isometry3d& estimate0 = episode.trajectory().front();
   Sim3 floor_tie;
   floor_tie.scale = episode.config().world.eye_height_units / quake3::kUnitsPerMetre / kappa;
-  floor_tie.rotation = truth_metres.front().linear() * estimate0.linear().transpose();
+  floor_tie.rotation = poses.truth_metres.front().linear() * estimate0.linear().transpose();
   floor_tie.translation =
-      truth_metres.front().translation() - floor_tie.scale * (floor_tie.rotation * estimate0.translation());
+      poses.truth_metres.front().translation() - floor_tie.scale * (floor_tie.rotation * estimate0.translation());
   a.floor_aligned = true;
   a.map_to_world_metres = floor_tie;
   return a;
@@ -214,7 +215,10 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   t.alignment_rmse_m = alignment.rmse_m;
   t.ate_percent = alignment.ate_percent;
   t.alignment_scale = t.map_to_world_metres.scale;
-  const std::vector<double> tilts = committedTiltsDeg(episode, t.map_to_world_metres);
+  // Roll and pitch errors of the committed frames; the BSP's up is +z.
+  const CommittedPoses poses = committedPoses(episode);
+  const std::vector<double> tilts =
+      tiltErrorsDeg(poses.estimate, poses.truth_metres, t.map_to_world_metres.rotation, Eigen::Vector3d::UnitZ());
   t.tilt_median_deg = quantile(tilts, 0.5);
   t.tilt_p90_deg = quantile(tilts, 0.9);
 

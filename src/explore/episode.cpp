@@ -68,7 +68,6 @@ void Episode::anchorGrid(bool reliable_floor) {
   const Eigen::Isometry3d& start = trajectory_.front();
   anchor_floor_ = pipeline_.floorAt(start);
   anchor_heading_ = start.linear().col(2);
-  anchor_kappa_ = anchor_floor_.cameraHeight();
   anchored_on_reliable_floor_ = reliable_floor;
   rebuildGrid();
 }

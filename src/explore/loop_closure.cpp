@@ -164,7 +164,10 @@ void LoopClosure::optimise(double eye_height) {
       edges.push_back(
           {i - 1, i, Similarity3::fromIsometry(nodes_[i - 1].odometry).inverse() * Similarity3::fromIsometry(nodes_[i].odometry)});
   }
-  PoseGraphOptions options{estimate_scale_, eye_height, config_.max_iterations, {}, 0};
+  PoseGraphOptions options;
+  options.estimate_scale = estimate_scale_;
+  options.translation_unit = eye_height;
+  options.max_iterations = config_.max_iterations;
   if (config_.eye_height_weight > 0 && eye_height > 0) {
     options.scale_prior_weight = config_.eye_height_weight;
     for (const Node& node : nodes_)

@@ -140,7 +140,6 @@ PoseGraphSolution optimisePoseGraph(const std::vector<Similarity3>& initial, con
 
   PoseGraphSolution solution;
   solution.converged = summary.termination_type == ceres::CONVERGENCE;
-  solution.iterations = static_cast<int>(summary.iterations.size());
   std::vector<Similarity3>& out = solution.nodes;
   out.resize(nodes.size());
   for (size_t i = 0; i < nodes.size(); ++i) {

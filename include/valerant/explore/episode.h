@@ -107,7 +107,7 @@ class Episode {
   // Ground truth of the committed frames; depth only every kCommittedDepthStride-th (kept_truth.h).
   const std::vector<FrameTruth>& truth() const { return truth_; }
   const std::vector<StepRecord>& history() const { return history_; }
-  double anchorEyeHeight() const { return anchor_kappa_; }  // kappa_0, map units
+  double anchorEyeHeight() const { return anchor_floor_.cameraHeight(); }  // kappa_0, map units
   // What the coverage grid is anchored on: the start floor and the start heading.
   const FloorPlane& gridAnchor() const { return anchor_floor_; }
   const Eigen::Vector3d& gridHeading() const { return anchor_heading_; }
@@ -179,7 +179,6 @@ class Episode {
   Config config_;
   double d_fwd_normalised_;
   std::optional<CoverageGrid> grid_;
-  double anchor_kappa_ = 1;
   FloorPlane anchor_floor_;
   Eigen::Vector3d anchor_heading_ = Eigen::Vector3d::UnitX();
   bool anchored_on_reliable_floor_ = false;

@@ -54,7 +54,6 @@ constexpr double kLevelPriorCornerDeg = 3.0;
 struct PoseGraphSolution {
   std::vector<Similarity3> nodes;  // optimised, one per initial node
   bool converged = false;          // Ceres met a convergence tolerance within max_iterations
-  int iterations = 0;
 };
 
 // The optimised nodes; `initial` (at least one) is the starting point. Throws
