@@ -66,6 +66,7 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
   int penetration_free_steps = 0;  // committed steps none of whose frames entered solid
   for (const auto& s : episode.history()) penetration_free_steps += s.chosen >= 0 && stepInSolidFrames(s) == 0;
   const ForcedTurns forced = forcedTurns(episode.history());
+  const FinalStreakWays streak = finalStreakWays(episode.history(), config);
   nlohmann::json events = nlohmann::json::array();
   for (const PenetrationEvent& e : penetrationEvents(episode.history()))
     events.push_back({{"step", e.step},
@@ -110,6 +111,8 @@ nlohmann::json groundTruth(const Episode& episode, const quake3::Quake3Map& map,
           {"false_rejections", truth.false_rejections},
           {"missed_collisions", truth.missed_collisions},
           {"clean_blocked_by_failed_region", cleanTranslationsBlockedByFailedRegion(episode.history())},
+          {"final_streak_translations", streak.translations},
+          {"final_streak_clean_translations", streak.clean_translations},
           {"turn_steps", forced.turns},
           {"falsely_forced_turns", forced.falsely_forced}};
 }
@@ -253,6 +256,7 @@ void writeEpisodeOutputs(const Episode& episode, const quake3::Quake3Map* map, c
   report["rewinds"] = episode.rewinds();
   report["first_translation_step"] = firstTranslationStep(episode.history());  // 0: none (spawn_departure.h)
   report["final_turn_streak"] = finalTurnStreak(episode.history());  // steps turning in place at the end (trap_figures.h)
+  report["final_streak_reversals"] = finalStreakWays(episode.history(), config).reversals;
   const GoalReach reach = goalReach(episode.history());
   report["goal_unreachable_steps"] = reach.unreachable_steps;
   report["goal_cut_off_by_failed_steps"] = reach.cut_off_by_failed_steps;

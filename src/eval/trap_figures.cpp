@@ -4,6 +4,7 @@
 
 #include "valerant/eval/episode_truth.h"
 #include "valerant/eval/spawn_departure.h"
+#include "valerant/world/action_sequence.h"
 
 namespace valerant {
 
@@ -14,6 +15,26 @@ int finalTurnStreak(const std::vector<StepRecord>& history) {
     ++streak;
   }
   return streak;
+}
+
+FinalStreakWays finalStreakWays(const std::vector<StepRecord>& history, const Config& config) {
+  FinalStreakWays ways;
+  const size_t streak = static_cast<size_t>(finalTurnStreak(history));
+  double last_yaw = 0;  // the streak's turn before, 0 before its first
+  for (size_t i = history.size() - streak; i < history.size(); ++i) {
+    const StepRecord& step = history[i];
+    for (const CandidateRecord& c : step.candidates) {
+      if (c.verdict.rotation_only || c.truth.empty()) continue;
+      ++ways.translations;
+      ways.clean_translations += staysOutOfSolid(c);
+    }
+    if (step.chosen < 0) continue;  // a stall turns nothing
+    const double yaw =
+        makeActionSequence(step.candidates[static_cast<size_t>(step.chosen)].verdict.candidate, config).totalYawDeg();
+    ways.reversals += yaw * last_yaw < 0;
+    if (yaw != 0) last_yaw = yaw;
+  }
+  return ways;
 }
 
 int cleanTranslationsBlockedByFailedRegion(const std::vector<StepRecord>& history) {

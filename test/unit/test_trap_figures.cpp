@@ -52,6 +52,43 @@ TEST(TrapFigures, AHistoryThatNeverTranslatedIsOneStreak) {
   EXPECT_EQ(finalTurnStreak({step(1, Move::kTurn), step(2, Move::kStall), step(3, Move::kTurn)}), 3);
 }
 
+TEST(TrapFigures, TheFinalStreakCountsItsReversalsAndTheCleanWaysItMet) {
+  // A step committing the candidate named `chosen` (empty: a stall) beside one judged
+  // translation `walk`.
+  auto decided = [](const std::string& chosen, CandidateRecord walk) {
+    StepRecord s;
+    CandidateRecord turn;
+    turn.verdict.rotation_only = true;
+    turn.verdict.candidate = chosen.empty() ? "jq" : chosen;
+    walk.verdict.candidate = "uw";
+    s.candidates = {turn, walk};
+    s.chosen = chosen.empty() ? -1 : 0;
+    return s;
+  };
+  const std::vector<StepRecord> history = {
+      // Before the streak: a committed translation (its clean candidate is not counted).
+      [&] {
+        StepRecord s = decided("jq", candidate(false, "", 4));
+        s.chosen = 1;
+        return s;
+      }(),
+      decided("jq", candidate(false, "enters failed region", 4)),        // the streak's first turn; clean
+      decided("lq", candidate(false, "point-cloud collision", 4, {2})),  // reversal 1; a wall
+      decided("lq", candidate(false, "point-cloud collision", 0)),       // same way; no truth: not judged
+      decided("", candidate(false, "point-cloud collision", 4, {0})),    // a stall; a wall
+      decided("jq@28", candidate(false, "enters failed region", 4)),     // reversal 2 (against lq); clean
+      decided("jq:114", candidate(false, "point-cloud collision", 4, {3})),  // same way
+  };
+  const Config config;
+  const FinalStreakWays ways = finalStreakWays(history, config);
+  EXPECT_EQ(ways.reversals, 2);
+  EXPECT_EQ(ways.translations, 5);
+  EXPECT_EQ(ways.clean_translations, 2);
+  // No streak: nothing counted.
+  const FinalStreakWays none = finalStreakWays({history.front()}, config);
+  EXPECT_EQ(none.reversals + none.translations + none.clean_translations, 0);
+}
+
 TEST(TrapFigures, CleanTranslationsThatOnlyTheFailedRegionRejected) {
   StepRecord a, b;
   a.candidates = {

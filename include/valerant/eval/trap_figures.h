@@ -5,6 +5,7 @@
 // report now carries them.
 #include <vector>
 
+#include "valerant/config/config.h"
 #include "valerant/explore/episode.h"
 
 namespace valerant {
@@ -13,6 +14,21 @@ namespace valerant {
 // last step that committed a translation or rewound (a rewind moves the agent): 0 when
 // the last step translated or rewound, the whole history when none ever did.
 int finalTurnStreak(const std::vector<StepRecord>& history);
+
+// What the final streak (finalTurnStreak) did and met, which tells two traps apart: an
+// agent swinging between two headings that both face walls (many reversals, no clean
+// translation), and one whose tests or F reject open ways (many clean translations).
+//   reversals: committed turns in place of the streak whose yaw has the opposite sign
+//     of the streak's turn before them (a left after a right, or the reverse);
+//   translations: translation candidates judged over the streak that carry truth;
+//   clean_translations: those of them whose frames all stayed out of solid.
+// `config` gives each chosen candidate's yaw (makeActionSequence).
+struct FinalStreakWays {
+  int reversals = 0;
+  int translations = 0;
+  int clean_translations = 0;
+};
+FinalStreakWays finalStreakWays(const std::vector<StepRecord>& history, const Config& config);
 
 // Translation candidates whose only objection was F ("enters failed region", policy.cpp)
 // and whose frames all stayed out of solid by the engine's truth: clean ways out that F
