@@ -140,11 +140,9 @@ CommittedPoses committedPoses(const Episode& episode) {
   return p;
 }
 
-}  // namespace
-
-EpisodeAlignment alignEpisode(const Episode& episode) {
+// alignEpisode on the episode's committed poses, already paired.
+EpisodeAlignment alignPoses(const Episode& episode, const CommittedPoses& poses) {
   EpisodeAlignment a;
-  const CommittedPoses poses = committedPoses(episode);
   if (poses.estimate.empty()) return a;
   const TrajectoryError ate = trajectoryError(poses.estimate, poses.truth_metres);
   a.aligned = ate.aligned;
@@ -168,6 +166,10 @@ EpisodeAlignment alignEpisode(const Episode& episode) {
   a.map_to_world_metres = floor_tie;
   return a;
 }
+
+}  // namespace
+
+EpisodeAlignment alignEpisode(const Episode& episode) { return alignPoses(episode, committedPoses(episode)); }
 
 EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::ReachableFloor& reachable) {
   EpisodeTruth t;
@@ -207,7 +209,8 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   }
   t.in_view_reachable_m2 = static_cast<double>(in_view.size());
   t.in_view_reachable_percent = t.reachable_m2 > 0 ? 100.0 * t.in_view_reachable_m2 / t.reachable_m2 : 0;
-  const EpisodeAlignment alignment = alignEpisode(episode);
+  const CommittedPoses poses = committedPoses(episode);
+  const EpisodeAlignment alignment = alignPoses(episode, poses);
   if (!alignment.aligned && !alignment.floor_aligned) return t;
   t.aligned = alignment.aligned;
   t.floor_aligned = alignment.floor_aligned;
@@ -216,7 +219,6 @@ EpisodeTruth evaluateEpisodeTruth(const Episode& episode, const quake3::Reachabl
   t.ate_percent = alignment.ate_percent;
   t.alignment_scale = t.map_to_world_metres.scale;
   // Roll and pitch errors of the committed frames; the BSP's up is +z.
-  const CommittedPoses poses = committedPoses(episode);
   const std::vector<double> tilts =
       tiltErrorsDeg(poses.estimate, poses.truth_metres, t.map_to_world_metres.rotation, Eigen::Vector3d::UnitZ());
   t.tilt_median_deg = quantile(tilts, 0.5);
